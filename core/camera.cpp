@@ -1,0 +1,36 @@
+#include "core/camera.h"
+
+#include <algorithm>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace penumbra {
+
+ViewMatrices cameraMatrices(const Camera& camera, const Bounds& bounds, int width, int height) {
+  ViewMatrices m;
+  const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+  const float radius = std::max(bounds.radius(), 1e-6f);
+  const float centreDepth = glm::dot(bounds.center() - camera.eye, forward);
+  m.farPlane = std::max(centreDepth + radius * 1.01f, radius * 1e-3f);
+  // Keep far/near <= 1e4 so 32-bit depth stays precise; a camera inside the scene gets a small near.
+  m.nearPlane = std::max(centreDepth - radius * 1.01f, m.farPlane * 1e-4f);
+  m.view = glm::lookAt(camera.eye, camera.target, camera.up);
+  m.proj = glm::perspective(glm::radians(camera.fovYDeg), float(width) / float(height), m.nearPlane,
+                            m.farPlane);
+  m.proj[1][1] *= -1.0f;  // Vulkan NDC has y pointing down
+  m.viewProj = m.proj * m.view;
+  m.invViewProj = glm::inverse(m.viewProj);
+  return m;
+}
+
+Ray pixelRay(const ViewMatrices& m, int x, int y, int width, int height) {
+  const glm::vec2 ndc{(2.0f * (float(x) + 0.5f)) / float(width) - 1.0f,
+                      (2.0f * (float(y) + 0.5f)) / float(height) - 1.0f};
+  glm::vec4 nearPoint = m.invViewProj * glm::vec4(ndc, 0.0f, 1.0f);
+  glm::vec4 farPoint = m.invViewProj * glm::vec4(ndc, 1.0f, 1.0f);
+  const glm::vec3 a = glm::vec3(nearPoint) / nearPoint.w;
+  const glm::vec3 b = glm::vec3(farPoint) / farPoint.w;
+  return {a, glm::normalize(b - a)};
+}
+
+}  // namespace penumbra

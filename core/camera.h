@@ -1,0 +1,30 @@
+// Camera and light-independent view math shared by the rasterizer and the Embree tracer, so that
+// a pixel centre maps to the same ray in both. Vulkan conventions: depth 0..1, y down in NDC,
+// pixel (0,0) at the top left.
+#pragma once
+#include <glm/glm.hpp>
+
+#include "core/scene.h"
+
+namespace penumbra {
+
+struct ViewMatrices {
+  glm::mat4 view{1.0f};
+  glm::mat4 proj{1.0f};
+  glm::mat4 viewProj{1.0f};
+  glm::mat4 invViewProj{1.0f};
+  float nearPlane = 0.1f;
+  float farPlane = 100.0f;
+};
+
+// Perspective view of `camera` with near/far fitted to `bounds` (never clipping the scene).
+ViewMatrices cameraMatrices(const Camera& camera, const Bounds& bounds, int width, int height);
+
+// World-space ray through the centre of pixel (x, y).
+struct Ray {
+  glm::vec3 origin;
+  glm::vec3 direction;  // unit
+};
+Ray pixelRay(const ViewMatrices& m, int x, int y, int width, int height);
+
+}  // namespace penumbra

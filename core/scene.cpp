@@ -1,0 +1,122 @@
+#include "core/scene.h"
+
+#include <cmath>
+
+namespace penumbra {
+
+Bounds Scene::bounds() const {
+  Bounds b;
+  for (const Mesh& mesh : meshes) {
+    for (const glm::vec3& p : mesh.positions) b.extend(p);
+  }
+  return b;
+}
+
+std::size_t Scene::triangleCount() const {
+  std::size_t n = 0;
+  for (const Mesh& mesh : meshes) n += mesh.triangleCount();
+  return n;
+}
+
+const char* lightTypeName(LightType type) {
+  switch (type) {
+    case LightType::Directional: return "dir";
+    case LightType::Spot: return "spot";
+    case LightType::Point: return "point";
+    case LightType::Rect: return "rect";
+    case LightType::Disk: return "disk";
+  }
+  return "unknown";
+}
+
+namespace {
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Keeps the triangles that are drawable; returns how many of each kind were dropped.
+struct Dropped {
+  std::size_t nonFinite = 0, badIndex = 0, degenerate = 0;
+};
+
+void cleanMesh(Mesh& mesh, float areaEpsilon, Dropped& dropped) {
+  const std::size_t vertexCount = mesh.positions.size();
+  std::vector<std::uint32_t> kept;
+  kept.reserve(mesh.indices.size());
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+    if (i0 >= vertexCount || i1 >= vertexCount || i2 >= vertexCount) {
+      ++dropped.badIndex;
+      continue;
+    }
+    const glm::vec3 &a = mesh.positions[i0], &b = mesh.positions[i1], &c = mesh.positions[i2];
+    if (!finite(a) || !finite(b) || !finite(c)) {
+      ++dropped.nonFinite;
+      continue;
+    }
+    if (glm::length(glm::cross(b - a, c - a)) <= areaEpsilon) {
+      ++dropped.degenerate;
+      continue;
+    }
+    kept.insert(kept.end(), {i0, i1, i2});
+  }
+  mesh.indices = std::move(kept);
+
+  // Normals: keep given finite ones, otherwise area-weighted face normals.
+  bool normalsUsable = mesh.normals.size() == vertexCount;
+  for (std::size_t i = 0; normalsUsable && i < vertexCount; ++i) {
+    normalsUsable = finite(mesh.normals[i]) && glm::length(mesh.normals[i]) > 0.0f;
+  }
+  if (!normalsUsable) {
+    mesh.normals.assign(vertexCount, glm::vec3(0.0f));
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+      const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+      const glm::vec3 n = glm::cross(mesh.positions[i1] - mesh.positions[i0], mesh.positions[i2] - mesh.positions[i0]);
+      mesh.normals[i0] += n;
+      mesh.normals[i1] += n;
+      mesh.normals[i2] += n;
+    }
+  }
+  for (glm::vec3& n : mesh.normals) {
+    const float len = glm::length(n);
+    n = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+  }
+  // Non-finite positions of unused vertices must not leak into bounds: pin them to a used vertex.
+  if (!mesh.indices.empty()) {
+    const glm::vec3 anchor = mesh.positions[mesh.indices[0]];
+    for (glm::vec3& p : mesh.positions) {
+      if (!finite(p)) p = anchor;
+    }
+  }
+}
+
+}  // namespace
+
+void cleanScene(Scene& scene, const std::string& source) {
+  // Degenerate = area below a tiny fraction of the finite extent squared (scale independent).
+  Bounds finiteBounds;
+  for (const Mesh& mesh : scene.meshes) {
+    for (const glm::vec3& p : mesh.positions) {
+      if (finite(p)) finiteBounds.extend(p);
+    }
+  }
+  const float extent = finiteBounds.empty() ? 0.0f : glm::length(finiteBounds.hi - finiteBounds.lo);
+  const float areaEpsilon = 1e-12f * extent * extent;
+
+  Dropped dropped;
+  for (Mesh& mesh : scene.meshes) cleanMesh(mesh, areaEpsilon, dropped);
+  std::erase_if(scene.meshes, [](const Mesh& m) { return m.indices.empty(); });
+
+  auto report = [&](std::size_t n, const char* what) {
+    if (n > 0) scene.warnings.push_back(std::to_string(n) + " triangles dropped: " + what);
+  };
+  report(dropped.nonFinite, "non-finite (NaN or infinite) vertex positions");
+  report(dropped.badIndex, "vertex index out of range");
+  report(dropped.degenerate, "degenerate (zero area)");
+  if (scene.meshes.empty()) {
+    throw InputError("scene '" + source + "' has no drawable triangles" +
+                     (scene.warnings.empty() ? std::string() : " (" + scene.warnings.back() + ")") +
+                     "; give a scene with at least one non-degenerate triangle");
+  }
+}
+
+}  // namespace penumbra

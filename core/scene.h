@@ -1,0 +1,75 @@
+// Scene model: world-space triangle meshes (node transforms flattened at load), lights, camera.
+// Units are the model's own; sizes that depend on scale are fractions of bounds().radius().
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace penumbra {
+
+// Thrown for every problem with user input (files, options, scenes); the message names the input and the fix.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;  // world space
+  std::vector<glm::vec3> normals;    // world space, unit, one per position
+  std::vector<std::uint32_t> indices;  // three per triangle
+  glm::vec3 baseColor{0.8f};
+  bool dynamic = false;  // moving geometry (later issues); static otherwise
+  std::size_t triangleCount() const { return indices.size() / 3; }
+};
+
+enum class LightType { Directional, Spot, Point, Rect, Disk };
+
+struct Light {
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};              // unused for Directional
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};  // unit: where the light points (travel direction for Directional)
+  float spotAngleDeg = 60.0f;            // full cone angle, Spot only
+  float size = 0.0f;                     // world units: Rect side / Disk diameter; 0 = a point
+  glm::vec3 color{1.0f};
+};
+
+struct Camera {
+  glm::vec3 eye{0.0f, 0.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovYDeg = 45.0f;
+};
+
+struct Bounds {
+  glm::vec3 lo{std::numeric_limits<float>::max()};
+  glm::vec3 hi{-std::numeric_limits<float>::max()};
+  bool empty() const { return lo.x > hi.x; }
+  void extend(const glm::vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  glm::vec3 center() const { return 0.5f * (lo + hi); }
+  float radius() const { return 0.5f * glm::length(hi - lo); }  // bounding sphere of the box
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Mesh> meshes;
+  std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
+  std::vector<Light> lights;     // the first one is used
+  std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats
+
+  Bounds bounds() const;
+  std::size_t triangleCount() const;
+};
+
+// Drops triangles with non-finite vertices, out-of-range indices or zero area; fills missing or
+// non-finite normals from faces; records what it removed in scene.warnings. Throws InputError
+// naming `source` when nothing drawable is left.
+void cleanScene(Scene& scene, const std::string& source);
+
+const char* lightTypeName(LightType type);
+
+}  // namespace penumbra

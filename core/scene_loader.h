@@ -1,0 +1,21 @@
+// Loads a scene from a spec: "builtin:NAME[:LEVEL]", a .gltf/.glb file or an .obj file.
+// The result is cleaned (cleanScene) and never empty; every failure is an InputError.
+#pragma once
+#include <string>
+
+#include "core/scene.h"
+
+namespace penumbra {
+
+Scene loadScene(const std::string& spec);
+
+// glTF 2.0 (.gltf, .glb) through tinygltf. External buffers and images are read only from the
+// model's own folder: absolute URIs and URIs that climb out with ../ are refused.
+// Node transforms are flattened into world space; the first camera and KHR_lights_punctual
+// light found in the default scene are kept.
+Scene loadGltf(const std::string& path);
+
+// Wavefront OBJ through tinyobjloader (materials' diffuse colour as base colour).
+Scene loadObj(const std::string& path);
+
+}  // namespace penumbra

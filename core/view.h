@@ -1,0 +1,42 @@
+// Camera and light as text and as a JSON view file, and default framing for models without them.
+//
+// Camera spec: "ex,ey,ez:tx,ty,tz[:fovy]"                          (eye, target, vertical fov in degrees)
+// Light spec:  "dir:dx,dy,dz"                                       directional, travel direction
+//              "point:x,y,z"
+//              "spot:x,y,z:tx,ty,tz[:angle]"                        full cone angle in degrees
+//              "rect:x,y,z:tx,ty,tz"  "disk:x,y,z:tx,ty,tz"         area light at x,y,z facing t;
+//                                                                   size from --light-size
+#pragma once
+#include <optional>
+#include <string>
+
+#include "core/scene.h"
+
+namespace penumbra {
+
+Camera parseCamera(const std::string& spec);      // InputError on malformed text
+std::string formatCamera(const Camera& camera);   // parseCamera(formatCamera(c)) == c (to 6 digits)
+Light parseLight(const std::string& spec);
+std::string formatLight(const Light& light);
+
+// Three-quarter view that frames the whole bounds.
+Camera defaultCamera(const Bounds& bounds);
+// A disk light (size 0 = point-like) above and to the side of the bounds, facing their centre.
+Light defaultLight(const Bounds& bounds);
+
+// Sets light.size from a fraction of the scene radius. Refuses (InputError) a size > 0 for light
+// types that have no extent (directional, spot, point) and negative or non-finite fractions.
+void applyLightSize(Light& light, float fractionOfRadius, const Bounds& bounds);
+
+// A view pins camera, light and resolution for reproducible runs (JSON).
+struct View {
+  Camera camera;
+  Light light;
+  float lightSizeFraction = 0.0f;  // --light-size
+  int width = 256;
+  int height = 256;
+};
+View readViewFile(const std::string& path);  // InputError naming the file and the bad field
+void writeViewFile(const std::string& path, const View& view);
+
+}  // namespace penumbra

@@ -1,0 +1,45 @@
+// The reference tracer: an Embree scene of the same world-space triangles, traced on all cores.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/camera.h"
+#include "core/scene.h"
+#include "shared/light.h"
+#include "shared/shading_point.h"
+
+namespace penumbra {
+
+struct PrimaryHit {
+  bool hit = false;
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};  // geometric, unit, turned towards the camera
+  std::uint32_t mesh = 0;
+};
+
+class EmbreeTracer {
+ public:
+  explicit EmbreeTracer(const Scene& scene);  // builds a high-quality BVH; throws on device errors
+  ~EmbreeTracer();
+  EmbreeTracer(const EmbreeTracer&) = delete;
+  EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+  // Closest hit through every pixel centre (pixelRay), row-major, width*height entries.
+  std::vector<PrimaryHit> tracePrimary(const ViewMatrices& view, int width, int height) const;
+
+  // visibility[i] = fraction of points[i].spp light samples (lightSamplePoint with
+  // pixel = points[i].pixel) that reach the point: lightReaches() and no occluder between.
+  // Shadow rays start at position + normal * light.rayEpsilon. Returns the number of rays traced.
+  std::uint64_t traceShadows(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
+                             std::span<float> visibility) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace penumbra

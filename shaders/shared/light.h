@@ -1,0 +1,97 @@
+// The light as every pass and the reference see it, and its per-pixel stratified samples.
+// Samples depend only on (pixel, sample index, spp), so every method and the Embree reference
+// trace the same light points and their differences are method error, not noise.
+#ifndef PENUMBRA_SHARED_LIGHT_H
+#define PENUMBRA_SHARED_LIGHT_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+#define LIGHT_DIRECTIONAL 0u
+#define LIGHT_SPOT 1u
+#define LIGHT_POINT 2u
+#define LIGHT_RECT 3u
+#define LIGHT_DISK 4u
+
+// std430, 80 bytes.
+struct GpuLight {
+  vec4 position;   // xyz world position (unused by directional)
+  vec4 direction;  // xyz unit: where the light points (travel direction for directional)
+  vec4 tangent;    // xyz unit, orthogonal to direction: first edge of a rect, any axis of a disk
+  vec4 color;      // rgb
+  uint type;
+  float size;          // rect side / disk diameter in world units; 0 = point
+  float cosHalfAngle;  // spot cone; -1 for other lights
+  float rayEpsilon;    // shadow-ray origin offset along the normal, world units
+};
+
+PN_FN uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+// Exact on CPU and GPU: 24 random bits scaled by 2^-24.
+PN_FN float hashToUnit(uint h) { return float(h >> 8u) * (1.0f / 16777216.0f); }
+
+// Sample `s` of `spp` for `pixel`: jittered on a ceil(sqrt(spp)) grid, jitter seeded by the pixel.
+PN_FN vec2 stratifiedSample(uint pixel, uint s, uint spp) {
+  uint nx = uint(ceil(sqrt(float(spp))));
+  uint ny = (spp + nx - 1u) / nx;
+  uint h = pcgHash(pixel * 9781u + pcgHash(s + 0x9e3779b9u));
+  float jx = hashToUnit(h);
+  float jy = hashToUnit(pcgHash(h));
+  return vec2((float(s % nx) + jx) / float(nx), (float(s / nx) + jy) / float(ny));
+}
+
+PN_FN bool isAreaLight(GpuLight light) {
+  return (light.type == LIGHT_RECT || light.type == LIGHT_DISK) && light.size > 0.0f;
+}
+
+// The light point that sample `s` of `spp` for `pixel` aims at (the centre for non-area lights).
+PN_FN vec3 lightSamplePoint(GpuLight light, uint pixel, uint s, uint spp) {
+  vec3 centre = vec3(light.position);
+  if (!isAreaLight(light)) return centre;
+  vec2 u = stratifiedSample(pixel, s, spp);
+  vec3 t = vec3(light.tangent);
+  vec3 b = cross(vec3(light.direction), t);
+  if (light.type == LIGHT_RECT) {
+    return centre + light.size * ((u.x - 0.5f) * t + (u.y - 0.5f) * b);
+  }
+  // Disk: Shirley–Chiu concentric mapping keeps the strata compact.
+  float a = 2.0f * u.x - 1.0f;
+  float c = 2.0f * u.y - 1.0f;
+  float r = 0.0f;
+  float phi = 0.0f;
+  if (a * a > c * c) {
+    r = a;
+    phi = 0.78539816f * (c / a);
+  } else if (c != 0.0f) {
+    r = c;
+    phi = 1.57079633f - 0.78539816f * (a / c);
+  }
+  return centre + (0.5f * light.size * r) * (cos(phi) * t + sin(phi) * b);
+}
+
+// Unit direction from p towards the light point q (towards the light for directional).
+PN_FN vec3 directionToLight(GpuLight light, vec3 p, vec3 q) {
+  if (light.type == LIGHT_DIRECTIONAL) return -vec3(light.direction);
+  return normalize(q - p);
+}
+
+// Whether light from q can reach p at all, before occlusion: p's surface (normal n) faces q,
+// p is inside a spot's cone and in front of a rect/disk. Every method applies this same rule.
+PN_FN bool lightReaches(GpuLight light, vec3 p, vec3 n, vec3 q) {
+  vec3 l = directionToLight(light, p, q);
+  if (dot(n, l) <= 0.0f) return false;
+  if (light.type == LIGHT_SPOT) return dot(-l, vec3(light.direction)) >= light.cosHalfAngle;
+  if (light.type == LIGHT_RECT || light.type == LIGHT_DISK) {
+    return dot(p - vec3(light.position), vec3(light.direction)) > 0.0f;
+  }
+  return true;
+}
+
+// Number of light samples a shading point uses: spp for area lights, one otherwise.
+PN_FN uint lightSampleCount(GpuLight light, uint spp) { return isAreaLight(light) ? max(spp, 1u) : 1u; }
+
+PN_END
+#endif
