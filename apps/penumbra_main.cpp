@@ -1,1 +1,98 @@
-int main() { return 0; }
+// penumbra: command-line front end. `render` runs one method, `compare` runs the Embree reference
+// and several methods and measures each against it. Every input is checked before any output is
+// written; errors print one line on stderr and exit with a non-zero code.
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/run_config.h"
+#include "core/metrics.h"
+#include "hybrid/frame_output.h"
+#include "hybrid/method.h"
+
+using namespace penumbra;
+
+namespace {
+
+int runCommand(const RunConfig& config, const std::vector<std::string>& methods, bool compare) {
+  const RunSetup setup = prepareRun(config, methods);
+  gpu::Context context({.validate = config.validate});
+  Renderer renderer(context, setup.scene, setup.settings);
+
+  std::vector<Frame> frames;
+  if (compare) frames.push_back(renderer.render("ref", setup.camera, setup.light));
+  for (const std::string& method : methods) frames.push_back(renderer.render(method, setup.camera, setup.light));
+
+  nlohmann::json context_json = describeRun(config, setup, context);
+  const bool soft = setup.light.size > 0.0f;
+  const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
+  const float heatmapScale = soft ? 0.25f : 1.0f;
+  if (compare) {
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      frames[i].stats.error = compareVisibility(frames[i].visibility, frames[0].visibility, frames[0].covered, threshold);
+    }
+  }
+
+  // Everything rendered: only now touch the output folder.
+  std::filesystem::create_directories(config.outDir);
+  for (const Frame& frame : frames) writeFrame(config.outDir, frame, context_json);
+  if (compare) {
+    nlohmann::json metrics{{"scene", context_json}, {"reference", frames[0].stats.toJson()}, {"methods", nlohmann::json::array()}};
+    metrics["scene"]["wrong_pixel_threshold"] = threshold;
+    metrics["scene"]["heatmap_full_scale"] = heatmapScale;
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      writeHeatmap(config.outDir, frames[i], frames[0], heatmapScale);
+      metrics["methods"].push_back(frames[i].stats.toJson());
+    }
+    writeJson(config.outDir + "/metrics.json", metrics);
+  }
+  printSummary(frames, std::cout);
+  std::cout << "wrote " << config.outDir << "/\n";
+
+  const auto messages = context.validationMessages();
+  if (!messages.empty()) {
+    std::cerr << "penumbra: " << messages.size() << " Vulkan validation message(s), see above\n";
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Penumbra: hybrid selective ray-traced shadows (shadow maps + ray tracing where they may be wrong)"};
+  app.require_subcommand(1);
+  RunConfig config;
+
+  CLI::App* render = app.add_subcommand("render", "Render one method: DIR/<method>.png, .visibility.exr/.png, .stats.json");
+  std::string method;
+  render->add_option("--method", method, "Method: " + [] {
+    std::string s;
+    for (const auto& n : methodNames()) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }())->required();
+  addRunOptions(*render, config);
+
+  CLI::App* compare = app.add_subcommand("compare", "Render the Embree reference and each method; write heatmaps and metrics.json");
+  std::string methodList = "sm,pcf";
+  compare->add_option("--methods", methodList, "Comma-separated methods to compare with ref")->capture_default_str();
+  compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp)");
+  addRunOptions(*compare, config);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (render->parsed()) return runCommand(config, {method}, false);
+    return runCommand(config, splitList(methodList), true);
+  } catch (const std::exception& e) {
+    std::cerr << "penumbra: " << e.what() << "\n";
+    return 2;
+  }
+}

@@ -1,1 +1,76 @@
-// placeholder: being written
+#include "core/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace penumbra {
+namespace {
+
+void checkSizes(const char* who, std::size_t test, std::size_t reference, std::size_t covered) {
+  if (test != reference || test != covered) {
+    throw std::invalid_argument(std::string(who) + ": buffer sizes differ (test " + std::to_string(test) +
+                                ", reference " + std::to_string(reference) + ", covered " +
+                                std::to_string(covered) + ")");
+  }
+}
+
+std::uint8_t toByte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+
+}  // namespace
+
+ErrorMetrics compareVisibility(std::span<const float> test, std::span<const float> reference,
+                               std::span<const std::uint8_t> covered, float wrongThreshold) {
+  checkSizes("compareVisibility", test.size(), reference.size(), covered.size());
+  ErrorMetrics m;
+  double sumSq = 0.0;
+  double sumAbs = 0.0;
+  std::uint64_t wrong = 0;
+  for (std::size_t i = 0; i < test.size(); ++i) {
+    if (covered[i] == 0) continue;
+    // Double keeps exact float differences exact, so the threshold comparison is not blurred.
+    double d = std::abs(double(test[i]) - double(reference[i]));
+    // A NaN would vanish from max and the wrong count; score it as the worst visibility error.
+    if (std::isnan(d)) d = 1.0;
+    sumSq += d * d;
+    sumAbs += d;
+    m.max = std::max(m.max, d);
+    if (d > double(wrongThreshold)) ++wrong;  // strictly greater: equal to the threshold is right
+    ++m.pixels;
+  }
+  if (m.pixels == 0) return m;
+  const double n = double(m.pixels);
+  m.rmse = std::sqrt(sumSq / n);
+  m.mae = sumAbs / n;
+  m.wrongPixelFraction = double(wrong) / n;
+  return m;
+}
+
+std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<const float> reference,
+                                       std::span<const std::uint8_t> covered, float fullScale) {
+  checkSizes("errorHeatmap", test.size(), reference.size(), covered.size());
+  if (!(fullScale > 0.0f)) throw std::invalid_argument("errorHeatmap: fullScale must be positive");
+  std::vector<std::uint8_t> rgba(test.size() * 4);
+  for (std::size_t i = 0; i < test.size(); ++i) {
+    std::uint8_t* px = &rgba[4 * i];
+    px[3] = 255;
+    if (covered[i] == 0) {
+      px[0] = 40;
+      px[1] = 44;
+      px[2] = 60;
+      continue;
+    }
+    const double d = std::abs(double(test[i]) - double(reference[i]));
+    // NaN counts as the worst error so broken pixels stand out.
+    const double e = std::isnan(d) ? 1.0 : std::min(d / double(fullScale), 1.0);
+    // Three equal ramps: red rises, then green (-> yellow), then blue (-> white).
+    const double t = 3.0 * e;
+    px[0] = toByte(t);
+    px[1] = toByte(t - 1.0);
+    px[2] = toByte(t - 2.0);
+  }
+  return rgba;
+}
+
+}  // namespace penumbra

@@ -1,1 +1,175 @@
-// placeholder
+#include "gpu/context.h"
+
+#include <algorithm>
+#include <iostream>
+#include <stdexcept>
+
+namespace penumbra::gpu {
+namespace {
+
+bool hasLayer(const vk::raii::Context& context, const char* name) {
+  for (const auto& layer : context.enumerateInstanceLayerProperties()) {
+    if (std::string(layer.layerName.data()) == name) return true;
+  }
+  return false;
+}
+
+bool hasInstanceExtension(const vk::raii::Context& context, const char* name) {
+  for (const auto& ext : context.enumerateInstanceExtensionProperties()) {
+    if (std::string(ext.extensionName.data()) == name) return true;
+  }
+  return false;
+}
+
+bool hasDeviceExtension(const vk::raii::PhysicalDevice& device, const char* name) {
+  for (const auto& ext : device.enumerateDeviceExtensionProperties()) {
+    if (std::string(ext.extensionName.data()) == name) return true;
+  }
+  return false;
+}
+
+// A discrete GPU beats an integrated one beats anything else; the CPU (lavapipe) is the fallback.
+int deviceRank(const vk::raii::PhysicalDevice& device) {
+  switch (device.getProperties().deviceType) {
+    case vk::PhysicalDeviceType::eDiscreteGpu: return 4;
+    case vk::PhysicalDeviceType::eIntegratedGpu: return 3;
+    case vk::PhysicalDeviceType::eVirtualGpu: return 2;
+    case vk::PhysicalDeviceType::eCpu: return 1;
+    default: return 0;
+  }
+}
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+}  // namespace
+
+Context::Context(const ContextOptions& options) : validate_(options.validate), printMessages_(options.printMessages) {
+  if (validate_ && !hasLayer(context_, kValidationLayer)) {
+    throw std::runtime_error(std::string("Vulkan validation requested but ") + kValidationLayer +
+                             " is not installed; install the Debian package vulkan-validationlayers");
+  }
+  debugUtils_ = hasInstanceExtension(context_, VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  std::vector<const char*> layers;
+  std::vector<const char*> extensions;
+  if (validate_) layers.push_back(kValidationLayer);
+  if (debugUtils_) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+
+  const vk::ApplicationInfo app{.pApplicationName = "penumbra", .apiVersion = VK_API_VERSION_1_3};
+  const vk::DebugUtilsMessengerCreateInfoEXT messengerInfo{
+      .messageSeverity = vk::DebugUtilsMessageSeverityFlagBitsEXT::eWarning | vk::DebugUtilsMessageSeverityFlagBitsEXT::eError,
+      .messageType = vk::DebugUtilsMessageTypeFlagBitsEXT::eGeneral | vk::DebugUtilsMessageTypeFlagBitsEXT::eValidation |
+                     vk::DebugUtilsMessageTypeFlagBitsEXT::ePerformance,
+      .pfnUserCallback = &Context::onMessage,
+      .pUserData = this};
+  vk::InstanceCreateInfo instanceInfo{.pApplicationInfo = &app,
+                                      .enabledLayerCount = std::uint32_t(layers.size()),
+                                      .ppEnabledLayerNames = layers.data(),
+                                      .enabledExtensionCount = std::uint32_t(extensions.size()),
+                                      .ppEnabledExtensionNames = extensions.data()};
+  if (validate_ && debugUtils_) instanceInfo.pNext = &messengerInfo;  // also catches create/destroy
+  instance_ = vk::raii::Instance(context_, instanceInfo);
+  if (validate_ && debugUtils_) messenger_ = vk::raii::DebugUtilsMessengerEXT(instance_, messengerInfo);
+
+  vk::raii::PhysicalDevices devices(instance_);
+  std::vector<vk::raii::PhysicalDevice> usable;
+  for (auto& d : devices) {
+    if (d.getProperties().apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(d, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) {
+      usable.push_back(std::move(d));
+    }
+  }
+  if (usable.empty()) {
+    throw std::runtime_error("no Vulkan 1.3 device with VK_KHR_push_descriptor found; install mesa-vulkan-drivers "
+                             "for the lavapipe CPU device (and set XDG_RUNTIME_DIR if the loader complains)");
+  }
+  auto best = std::max_element(usable.begin(), usable.end(),
+                               [](const auto& a, const auto& b) { return deviceRank(a) < deviceRank(b); });
+  physical_ = std::move(*best);
+
+  const auto families = physical_.getQueueFamilyProperties();
+  const auto wanted = vk::QueueFlagBits::eGraphics | vk::QueueFlagBits::eCompute;
+  auto family = std::find_if(families.begin(), families.end(), [&](const auto& f) {
+    return (f.queueFlags & wanted) == wanted && f.timestampValidBits > 0;
+  });
+  if (family == families.end()) throw std::runtime_error("Vulkan device has no graphics+compute queue with timestamps");
+  queueFamily_ = std::uint32_t(family - families.begin());
+  timestampPeriodNs_ = physical_.getProperties().limits.timestampPeriod;
+
+  const float priority = 1.0f;
+  const vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily_, .queueCount = 1, .pQueuePriorities = &priority};
+  const auto supported = physical_.getFeatures();
+  vk::PhysicalDeviceVulkan13Features features13{.synchronization2 = VK_TRUE, .dynamicRendering = VK_TRUE};
+  vk::PhysicalDeviceVulkan12Features features12{.pNext = &features13, .hostQueryReset = VK_TRUE};
+  vk::PhysicalDeviceFeatures2 features{
+      .pNext = &features12,
+      .features = {.geometryShader = supported.geometryShader, .fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics}};
+  const std::vector<const char*> deviceExtensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  device_ = vk::raii::Device(physical_, vk::DeviceCreateInfo{.pNext = &features,
+                                                            .queueCreateInfoCount = 1,
+                                                            .pQueueCreateInfos = &queueInfo,
+                                                            .enabledExtensionCount = std::uint32_t(deviceExtensions.size()),
+                                                            .ppEnabledExtensionNames = deviceExtensions.data()});
+  queue_ = vk::raii::Queue(device_, queueFamily_, 0);
+  commandPool_ = vk::raii::CommandPool(
+      device_, {.flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer, .queueFamilyIndex = queueFamily_});
+  fence_ = vk::raii::Fence(device_, vk::FenceCreateInfo{});
+}
+
+std::string Context::deviceName() const { return physical_.getProperties().deviceName.data(); }
+
+std::string Context::driverInfo() const {
+  const auto props = physical_.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
+  const auto& driver = props.get<vk::PhysicalDeviceDriverProperties>();
+  return std::string(driver.driverName.data()) + " " + driver.driverInfo.data();
+}
+
+void Context::submitAndWait(const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
+  vk::raii::CommandBuffers buffers(device_, {.commandPool = *commandPool_, .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1});
+  const vk::raii::CommandBuffer& cmd = buffers.front();
+  cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+  record(cmd);
+  cmd.end();
+  const vk::CommandBuffer handle = *cmd;
+  device_.resetFences({*fence_});
+  queue_.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &handle}, *fence_);
+  if (device_.waitForFences({*fence_}, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
+    throw std::runtime_error("Vulkan queue wait failed");
+  }
+}
+
+std::uint32_t Context::memoryType(std::uint32_t typeBits, vk::MemoryPropertyFlags wanted) const {
+  const auto memory = physical_.getMemoryProperties();
+  for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    if ((typeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) return i;
+  }
+  throw std::runtime_error("no Vulkan memory type with the requested properties");
+}
+
+void Context::nameObject(vk::ObjectType type, std::uint64_t handle, const std::string& text) const {
+  if (!debugUtils_) return;
+  device_.setDebugUtilsObjectNameEXT({.objectType = type, .objectHandle = handle, .pObjectName = text.c_str()});
+}
+
+std::vector<std::string> Context::validationMessages() const {
+  std::lock_guard lock(messagesMutex_);
+  return messages_;
+}
+
+void Context::clearValidationMessages() {
+  std::lock_guard lock(messagesMutex_);
+  messages_.clear();
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
+                                                  VkDebugUtilsMessageTypeFlagsEXT,
+                                                  const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
+  auto* context = static_cast<Context*>(self);
+  const std::string text = data && data->pMessage ? data->pMessage : "(no message)";
+  {
+    std::lock_guard lock(context->messagesMutex_);
+    context->messages_.push_back(text);
+  }
+  if (context->printMessages_) std::cerr << "vulkan validation: " << text << "\n";
+  return VK_FALSE;
+}
+
+}  // namespace penumbra::gpu

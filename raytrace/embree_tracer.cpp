@@ -1,1 +1,255 @@
-// placeholder: being written
+#include "raytrace/embree_tracer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include <embree3/rtcore.h>
+
+namespace penumbra {
+namespace {
+
+const char* errorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_UNKNOWN: return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+  }
+  return "unrecognised error";
+}
+
+struct DeviceRelease {
+  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+};
+struct SceneRelease {
+  void operator()(RTCScene s) const { rtcReleaseScene(s); }
+};
+struct GeometryRelease {
+  void operator()(RTCGeometry g) const { rtcReleaseGeometry(g); }
+};
+using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceRelease>;
+using ScenePtr = std::unique_ptr<RTCSceneTy, SceneRelease>;
+using GeometryPtr = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
+
+constexpr std::size_t kBlock = 256;  // points (or pixels) handed to a worker at a time
+
+// Runs body(begin, end) over [0, count) in blocks on all cores. Each item's result depends only on
+// the item, so the output is the same for any thread count or scheduling.
+template <typename Body>
+void parallelBlocks(std::size_t count, Body&& body) {
+  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+  const std::size_t workers =
+      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), blocks);
+  std::atomic<std::size_t> next{0};
+  auto run = [&] {
+    for (std::size_t b = next.fetch_add(1); b < blocks; b = next.fetch_add(1)) {
+      body(b * kBlock, std::min(count, (b + 1) * kBlock));
+    }
+  };
+  if (workers <= 1) {
+    run();
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
+  for (std::size_t i = 1; i < workers; ++i) pool.emplace_back(run);
+  run();  // the calling thread works too
+  for (std::thread& t : pool) t.join();
+}
+
+}  // namespace
+
+struct EmbreeTracer::Impl {
+  // Declared before the handles: the error callback writes here for their whole lifetime.
+  std::mutex errorMutex;
+  std::string firstError;
+  // Member order matters: the scene must be released before the device that owns it.
+  DevicePtr device;
+  ScenePtr scene;
+  std::vector<std::uint32_t> geomToMesh;  // Embree geomID -> Scene mesh index (empty meshes skipped)
+  double buildMs = 0.0;
+
+  static void onError(void* user, RTCError code, const char* message) {
+    auto* self = static_cast<Impl*>(user);
+    std::lock_guard lock(self->errorMutex);
+    if (self->firstError.empty()) {
+      self->firstError = std::string(errorName(code)) + (message ? std::string(": ") + message : "");
+    }
+  }
+
+  // Throws the first error Embree reported (by callback or error code) since the last check.
+  void check(const char* stage) {
+    const RTCError code = rtcGetDeviceError(device.get());
+    std::string message;
+    {
+      std::lock_guard lock(errorMutex);
+      message.swap(firstError);
+    }
+    if (message.empty() && code != RTC_ERROR_NONE) message = errorName(code);
+    if (!message.empty()) throw std::runtime_error(std::string("Embree ") + stage + ": " + message);
+  }
+};
+
+EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.device.reset(rtcNewDevice(nullptr));
+  if (!m.device) {
+    // Without a device there is no callback yet; the thread-local error code is all we have.
+    throw std::runtime_error(std::string("Embree device creation failed: ") +
+                             errorName(rtcGetDeviceError(nullptr)));
+  }
+  rtcSetDeviceErrorFunction(m.device.get(), &Impl::onError, &m);
+
+  const auto start = std::chrono::steady_clock::now();
+  m.scene.reset(rtcNewScene(m.device.get()));
+  m.check("scene creation");
+  rtcSetSceneBuildQuality(m.scene.get(), RTC_BUILD_QUALITY_HIGH);
+  // Robust mode avoids cracks between adjacent triangles that would leak light through meshes.
+  rtcSetSceneFlags(m.scene.get(), RTC_SCENE_FLAG_ROBUST);
+
+  for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+    const Mesh& mesh = scene.meshes[mi];
+    const std::size_t triangles = mesh.triangleCount();
+    if (triangles == 0 || mesh.positions.empty()) continue;
+    for (std::size_t i = 0; i < triangles * 3; ++i) {
+      // Embree would read out of bounds, so bad input must stop here rather than crash later.
+      if (mesh.indices[i] >= mesh.positions.size()) {
+        throw std::invalid_argument("EmbreeTracer: mesh '" + mesh.name + "' has an index out of range");
+      }
+    }
+    GeometryPtr geom(rtcNewGeometry(m.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE));
+    m.check("geometry creation");
+    rtcSetGeometryBuildQuality(geom.get(), RTC_BUILD_QUALITY_HIGH);
+    // Copies: the tracer must stay valid after the Scene is gone. Embree pads these buffers itself.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom.get(), RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        geom.get(), RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), triangles));
+    m.check("buffer allocation");
+    if (!vertices || !indices) throw std::runtime_error("Embree buffer allocation failed");
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      vertices[3 * v + 0] = mesh.positions[v].x;
+      vertices[3 * v + 1] = mesh.positions[v].y;
+      vertices[3 * v + 2] = mesh.positions[v].z;
+    }
+    std::copy_n(mesh.indices.begin(), triangles * 3, indices);
+    rtcCommitGeometry(geom.get());
+    const unsigned id = rtcAttachGeometry(m.scene.get(), geom.get());
+    m.check("geometry commit");
+    if (id >= m.geomToMesh.size()) m.geomToMesh.resize(id + 1, 0);
+    m.geomToMesh[id] = static_cast<std::uint32_t>(mi);
+  }
+  rtcCommitScene(m.scene.get());
+  m.check("scene build");
+  m.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeTracer::~EmbreeTracer() = default;
+
+double EmbreeTracer::buildMs() const { return impl_->buildMs; }
+
+std::vector<PrimaryHit> EmbreeTracer::tracePrimary(const ViewMatrices& view, int width, int height) const {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("EmbreeTracer::tracePrimary: empty image");
+  const std::size_t count = std::size_t(width) * std::size_t(height);
+  std::vector<PrimaryHit> hits(count);
+  RTCScene scene = impl_->scene.get();
+  const std::vector<std::uint32_t>& geomToMesh = impl_->geomToMesh;
+
+  parallelBlocks(count, [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (std::size_t i = begin; i < end; ++i) {
+      const int x = int(i % std::size_t(width));
+      const int y = int(i / std::size_t(width));
+      const Ray ray = pixelRay(view, x, y, width, height);
+      RTCRayHit rh{};
+      rh.ray.org_x = ray.origin.x;
+      rh.ray.org_y = ray.origin.y;
+      rh.ray.org_z = ray.origin.z;
+      rh.ray.dir_x = ray.direction.x;
+      rh.ray.dir_y = ray.direction.y;
+      rh.ray.dir_z = ray.direction.z;
+      rh.ray.tnear = 0.0f;
+      rh.ray.tfar = std::numeric_limits<float>::infinity();
+      rh.ray.mask = ~0u;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &context, &rh);
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      PrimaryHit& h = hits[i];
+      h.hit = true;
+      h.position = ray.origin + rh.ray.tfar * ray.direction;
+      glm::vec3 n{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+      const float len = glm::length(n);
+      n = len > 0.0f ? n / len : -ray.direction;
+      h.normal = glm::dot(n, ray.direction) > 0.0f ? -n : n;  // face the camera
+      h.mesh = rh.hit.geomID < geomToMesh.size() ? geomToMesh[rh.hit.geomID] : 0u;
+    }
+  });
+  impl_->check("primary tracing");
+  return hits;
+}
+
+std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> points,
+                                         const shared::GpuLight& light, std::span<float> visibility) const {
+  if (visibility.size() != points.size()) {
+    throw std::invalid_argument("EmbreeTracer::traceShadows: visibility size " +
+                                std::to_string(visibility.size()) + " != points size " +
+                                std::to_string(points.size()));
+  }
+  RTCScene scene = impl_->scene.get();
+  const bool directional = light.type == LIGHT_DIRECTIONAL;
+  std::atomic<std::uint64_t> totalRays{0};
+
+  parallelBlocks(points.size(), [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    std::uint64_t rays = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const shared::ShadingPoint& sp = points[i];
+      // spp 0 would divide by zero; like lightSampleCount, it means one sample.
+      const std::uint32_t n = std::max(sp.spp, 1u);
+      const glm::vec3 p = sp.position;
+      const glm::vec3 normal = sp.normal;
+      const glm::vec3 origin = p + normal * light.rayEpsilon;
+      std::uint32_t visible = 0;
+      for (std::uint32_t s = 0; s < n; ++s) {
+        const glm::vec3 q = shared::lightSamplePoint(light, sp.pixel, s, n);
+        if (!shared::lightReaches(light, p, normal, q)) continue;
+        const glm::vec3 d = shared::directionToLight(light, p, q);
+        RTCRay ray{};
+        ray.org_x = origin.x;
+        ray.org_y = origin.y;
+        ray.org_z = origin.z;
+        ray.dir_x = d.x;
+        ray.dir_y = d.y;
+        ray.dir_z = d.z;
+        ray.tnear = 0.0f;
+        // Stop just short of the light point so geometry at the light itself does not count.
+        ray.tfar = directional ? std::numeric_limits<float>::infinity()
+                               : glm::distance(origin, q) * (1.0f - 1e-4f);
+        ray.mask = ~0u;
+        rtcOccluded1(scene, &context, &ray);
+        ++rays;
+        // Embree marks an occluded ray by setting tfar to -inf.
+        if (ray.tfar >= 0.0f) ++visible;
+      }
+      visibility[i] = float(visible) / float(n);
+    }
+    totalRays.fetch_add(rays, std::memory_order_relaxed);
+  });
+  impl_->check("shadow tracing");
+  return totalRays.load();
+}
+
+}  // namespace penumbra

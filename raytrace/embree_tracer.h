@@ -28,6 +28,9 @@ class EmbreeTracer {
   EmbreeTracer(const EmbreeTracer&) = delete;
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
+  // Wall-clock time of the BVH build (scene creation to commit), in milliseconds.
+  double buildMs() const;
+
   // Closest hit through every pixel centre (pixelRay), row-major, width*height entries.
   std::vector<PrimaryHit> tracePrimary(const ViewMatrices& view, int width, int height) const;
 

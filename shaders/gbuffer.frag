@@ -1,2 +1,19 @@
 #version 450
-void main() {}
+#extension GL_GOOGLE_include_directive : require
+#include "shared/raster.h"
+#include "shared/gbuffer.h"
+layout(location = 0) in vec3 worldPosition;
+layout(location = 1) in vec3 worldNormal;
+layout(location = 2) in vec3 albedo;
+layout(push_constant) uniform PushBlock { GBufferPush push; };
+layout(location = GBUFFER_POSITION) out vec4 outPosition;
+layout(location = GBUFFER_NORMAL) out vec4 outNormal;
+layout(location = GBUFFER_ALBEDO) out vec4 outAlbedo;
+void main() {
+  vec3 n = normalize(worldNormal);
+  // Scenes are drawn two-sided: the shading normal faces the viewer.
+  if (dot(n, push.cameraPosition.xyz - worldPosition) < 0.0) n = -n;
+  outPosition = vec4(worldPosition, 1.0);
+  outNormal = vec4(n, 0.0);
+  outAlbedo = vec4(albedo, 1.0);
+}

@@ -1,3 +1,33 @@
 #version 450
-layout(local_size_x = 1) in;
-void main() {}
+// The one shading pass every method shares: Lambert from the light's centre, scaled by the
+// method's visibility, over a small ambient term. Output is sRGB RGBA8, one uint per pixel.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/frame.h"
+#include "shared/raster.h"
+layout(local_size_x = LOOKUP_GROUP_SIZE, local_size_y = LOOKUP_GROUP_SIZE) in;
+layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
+layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
+layout(binding = 2, rgba8) uniform readonly image2D gAlbedo;
+layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 4) readonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 5) writeonly buffer Color { uint color[]; };
+
+const float kAmbient = 0.12;
+
+void main() {
+  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+  if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
+  uint index = uint(pix.y) * frame.width + uint(pix.x);
+  vec4 position = imageLoad(gPosition, pix);
+  vec3 rgb;
+  if (position.w == 0.0) {
+    rgb = mix(vec3(0.60, 0.66, 0.74), vec3(0.33, 0.42, 0.56), float(pix.y) / float(frame.height));
+  } else {
+    vec3 p = position.xyz;
+    vec3 n = imageLoad(gNormal, pix).xyz;
+    vec3 l = directionToLight(frame.light, p, frame.light.position.xyz);
+    float direct = max(dot(n, l), 0.0) * visibility[index];
+    rgb = imageLoad(gAlbedo, pix).rgb * (kAmbient + (1.0 - kAmbient) * direct * frame.light.color.rgb);
+  }
+  color[index] = packUnorm4x8(vec4(pow(clamp(rgb, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
+}

@@ -1,0 +1,171 @@
+#include "apps/run_config.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "core/scene_loader.h"
+#include "core/view.h"
+#include "hybrid/method.h"
+
+namespace penumbra {
+namespace {
+
+void parseResolution(const std::string& text, std::uint32_t& width, std::uint32_t& height) {
+  unsigned w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%u%c%u%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+      w > 16384 || h > 16384) {
+    throw InputError("--res '" + text + "' is not a resolution; use WxH with 1..16384 each, e.g. 256x256");
+  }
+  width = w;
+  height = h;
+}
+
+std::uint32_t pcfFilter(const std::string& kernel) {
+  if (kernel == "3x3") return FILTER_PCF3;
+  if (kernel == "5x5") return FILTER_PCF5;
+  if (kernel == "poisson") return FILTER_POISSON;
+  throw InputError("--pcf-kernel '" + kernel + "' is not supported; use 3x3, 5x5 or poisson");
+}
+
+void requireFinite(float value, const char* option) {
+  if (!std::isfinite(value)) throw InputError(std::string(option) + " must be a finite number");
+}
+
+// Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating.
+std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
+  const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
+  const std::uint64_t shadowMap = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4 * 6;  // worst case: cube
+  const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4) * 2;  // images + readbacks
+  const std::uint64_t frame = pixels * (4 + 4 + 32);            // visibility, colour, shading points
+  const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36);
+  return shadowMap + gbuffer + frame + geometry;
+}
+
+std::uint64_t physicalMemoryBytes() {
+  return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+}
+
+}  // namespace
+
+void addRunOptions(CLI::App& app, RunConfig& c) {
+  app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, room), a .gltf/.glb or .obj file")
+      ->capture_default_str();
+  app.add_option("--camera", c.camera, "Camera 'ex,ey,ez:tx,ty,tz[:fovy]' (default: the scene's, else a three-quarter view)");
+  app.add_option("--light", c.light, "Light 'dir:dx,dy,dz' | 'point:x,y,z' | 'spot:x,y,z:tx,ty,tz[:angle]' | 'rect:x,y,z:tx,ty,tz' | 'disk:...'");
+  app.add_option("--light-size", c.lightSize, "Area light extent as a fraction of the scene radius (0 = point light)")
+      ->each([&c](const std::string&) { c.lightSizeGiven = true; });
+  app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
+  app.add_option("--res", c.resolution, "Image resolution WxH")->capture_default_str();
+  app.add_option("--shadow-map-res", c.shadowMapRes, "Shadow map texels per side (per cube face)")
+      ->capture_default_str()->check(CLI::Range(16u, 16384u));
+  app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
+  app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
+  app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
+  app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
+  app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
+  app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
+  app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
+  app.add_flag("--validate", c.validate, "Enable Vulkan validation layers; any message makes the run fail");
+  app.add_option("--out", c.outDir, "Output folder")->capture_default_str();
+}
+
+std::vector<std::string> splitList(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) items.push_back(item);
+  }
+  if (items.empty()) throw InputError("--methods '" + list + "' names no method; e.g. --methods sm,pcf");
+  return items;
+}
+
+RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
+  for (const std::string& m : methods) makeMethod(m);  // unknown names fail before any work
+  for (float v : {c.lightSize, c.depthBias, c.slopeBias, c.normalOffset, c.rayEpsilon}) requireFinite(v, "numeric options");
+  if (c.rayEpsilon < 0.0f || c.normalOffset < 0.0f) throw InputError("--ray-epsilon and --normal-offset must be >= 0");
+
+  RunSetup s;
+  s.scene = loadScene(c.scene);
+  for (const std::string& w : s.scene.warnings) std::cerr << "penumbra: " << c.scene << ": " << w << "\n";
+  const Bounds bounds = s.scene.bounds();
+
+  std::optional<View> view;
+  if (!c.viewFile.empty()) view = readViewFile(c.viewFile);
+  s.settings.width = view ? std::uint32_t(view->width) : 0;
+  s.settings.height = view ? std::uint32_t(view->height) : 0;
+  if (!view || c.resolution != "256x256") parseResolution(c.resolution, s.settings.width, s.settings.height);
+
+  if (!c.camera.empty()) s.camera = parseCamera(c.camera);
+  else if (view) s.camera = view->camera;
+  else if (s.scene.camera) s.camera = *s.scene.camera;
+  else {
+    s.camera = defaultCamera(bounds);
+    std::cout << "camera (default): --camera " << formatCamera(s.camera) << "\n";
+  }
+  if (!c.light.empty()) s.light = parseLight(c.light);
+  else if (view) s.light = view->light;
+  else if (!s.scene.lights.empty()) s.light = s.scene.lights.front();
+  else {
+    s.light = defaultLight(bounds);
+    std::cout << "light (default): --light " << formatLight(s.light) << "\n";
+  }
+  s.lightSizeFraction = c.lightSizeGiven || !view ? c.lightSize : view->lightSizeFraction;
+  applyLightSize(s.light, s.lightSizeFraction, bounds);
+
+  s.settings.spp = c.spp;
+  s.settings.referenceSpp = c.referenceSpp;
+  s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset};
+  s.settings.pcfFilter = pcfFilter(c.pcfKernel);
+  s.settings.rayEpsilon = c.rayEpsilon;
+
+  const std::uint64_t need = estimateBytes(s.settings, s.scene), have = physicalMemoryBytes();
+  if (need > have / 2) {
+    throw InputError("this run needs about " + std::to_string(need >> 20) + " MiB of GPU buffers but the machine has " +
+                     std::to_string(have >> 20) + " MiB; lower --res or --shadow-map-res");
+  }
+  if (!c.saveView.empty()) {
+    writeViewFile(c.saveView, {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height)});
+  }
+  return s;
+}
+
+nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Context& context) {
+  return {{"scene", c.scene},
+          {"triangles", s.scene.triangleCount()},
+          {"resolution", {s.settings.width, s.settings.height}},
+          {"camera", formatCamera(s.camera)},
+          {"light", formatLight(s.light)},
+          {"light_size", s.lightSizeFraction},
+          {"spp", s.settings.spp},
+          {"shadow_map_res", s.settings.shadowMap.resolution},
+          {"pcf_kernel", c.pcfKernel},
+          {"warnings", s.scene.warnings},
+          {"device", context.deviceName()},
+          {"driver", context.driverInfo()}};
+}
+
+void printSummary(const std::vector<Frame>& frames, std::ostream& out) {
+  out << std::left << std::setw(8) << "method" << std::right << std::setw(11) << "total ms" << std::setw(12) << "rays"
+      << std::setw(11) << "wrong %" << std::setw(10) << "rmse" << "   passes (ms)\n";
+  for (const Frame& f : frames) {
+    const FrameStats& s = f.stats;
+    out << std::left << std::setw(8) << s.method << std::right << std::fixed << std::setprecision(1) << std::setw(11)
+        << s.totalMs << std::setw(12) << (s.raysTraced ? std::to_string(*s.raysTraced) : "-");
+    if (s.error) {
+      out << std::setw(11) << std::setprecision(3) << 100.0 * s.error->wrongPixelFraction << std::setw(10)
+          << std::setprecision(4) << s.error->rmse;
+    } else {
+      out << std::setw(11) << "-" << std::setw(10) << "-";
+    }
+    out << "  ";
+    for (const auto& [pass, ms] : s.passMs) out << " " << pass << "=" << std::setprecision(1) << ms;
+    out << "\n";
+  }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,47 @@
+// The options `render` and `compare` share, and turning them into a checked run: scene, camera,
+// light and settings, all resolved (and refused with a clear message) before the GPU starts.
+#pragma once
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "gpu/context.h"
+#include "hybrid/renderer.h"
+
+namespace penumbra {
+
+struct RunConfig {
+  std::string scene = "builtin:courtyard";
+  std::string camera, light, viewFile, saveView;
+  float lightSize = 0.0f;
+  bool lightSizeGiven = false;
+  std::uint32_t spp = 16, referenceSpp = 0;
+  std::string resolution = "256x256";
+  std::uint32_t shadowMapRes = 2048;
+  std::string pcfKernel = "3x3";
+  float depthBias = 1.0f, slopeBias = 1.5f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
+  bool validate = false;
+  std::string outDir = "out";
+};
+
+struct RunSetup {
+  Scene scene;
+  Camera camera;
+  Light light;
+  float lightSizeFraction = 0.0f;
+  RenderSettings settings;
+};
+
+void addRunOptions(CLI::App& app, RunConfig& config);
+// Loads the scene, resolves camera/light (printing defaults so they can be reused), checks every
+// number and the memory the run needs; writes --save-view. Throws InputError.
+RunSetup prepareRun(const RunConfig& config, const std::vector<std::string>& methods);
+nlohmann::json describeRun(const RunConfig& config, const RunSetup& setup, const gpu::Context& context);
+void printSummary(const std::vector<Frame>& frames, std::ostream& out);
+std::vector<std::string> splitList(const std::string& list);
+
+}  // namespace penumbra

@@ -1,0 +1,70 @@
+// The Vulkan device every pass runs on: a real GPU when one is present, lavapipe otherwise.
+// Validation messages are captured (and printed) so tests can require silence.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan_raii.hpp>
+
+namespace penumbra::gpu {
+
+struct ContextOptions {
+  bool validate = false;      // enable VK_LAYER_KHRONOS_validation and capture its messages
+  bool printMessages = true;  // also print each validation message to stderr
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const vk::raii::Device& device() const { return device_; }
+  const vk::raii::PhysicalDevice& physicalDevice() const { return physical_; }
+  std::uint32_t queueFamily() const { return queueFamily_; }
+  std::string deviceName() const;
+  std::string driverInfo() const;  // driver name and version, for benchmark rows
+  bool validationEnabled() const { return validate_; }
+  float timestampPeriodNs() const { return timestampPeriodNs_; }
+
+  // Records with `record`, submits and waits; the one way passes reach the queue.
+  void submitAndWait(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
+
+  std::uint32_t memoryType(std::uint32_t typeBits, vk::MemoryPropertyFlags wanted) const;
+
+  // Debug name shown by validation messages and captures (no-op without debug utils).
+  template <typename Handle>
+  void name(const Handle& handle, const std::string& text) const {
+    nameObject(Handle::objectType, reinterpret_cast<std::uint64_t>(static_cast<typename Handle::CType>(handle)), text);
+  }
+
+  std::vector<std::string> validationMessages() const;
+  void clearValidationMessages();
+
+ private:
+  void nameObject(vk::ObjectType type, std::uint64_t handle, const std::string& text) const;
+  static VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                  VkDebugUtilsMessageTypeFlagsEXT types,
+                                                  const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+
+  bool validate_ = false;
+  bool printMessages_ = true;
+  bool debugUtils_ = false;
+  mutable std::mutex messagesMutex_;
+  std::vector<std::string> messages_;
+  vk::raii::Context context_;
+  vk::raii::Instance instance_{nullptr};
+  vk::raii::DebugUtilsMessengerEXT messenger_{nullptr};
+  vk::raii::PhysicalDevice physical_{nullptr};
+  vk::raii::Device device_{nullptr};
+  vk::raii::Queue queue_{nullptr};
+  vk::raii::CommandPool commandPool_{nullptr};
+  vk::raii::Fence fence_{nullptr};
+  std::uint32_t queueFamily_ = 0;
+  float timestampPeriodNs_ = 1.0f;
+};
+
+}  // namespace penumbra::gpu

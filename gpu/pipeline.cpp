@@ -1,0 +1,147 @@
+#include "gpu/pipeline.h"
+
+namespace penumbra::gpu {
+namespace {
+
+vk::raii::ShaderModule shaderModule(const Context& context, std::span<const std::uint32_t> spirv) {
+  return vk::raii::ShaderModule(context.device(), {.codeSize = spirv.size_bytes(), .pCode = spirv.data()});
+}
+
+}  // namespace
+
+PipelineLayout::PipelineLayout(const Context& context, std::span<const Binding> bindings, vk::ShaderStageFlags stages,
+                               std::uint32_t pushConstantBytes)
+    : stages_(stages), setLayout_([&] {
+        std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
+        for (const Binding& b : bindings) {
+          layoutBindings.push_back({.binding = b.binding, .descriptorType = b.type, .descriptorCount = 1, .stageFlags = stages});
+        }
+        return vk::raii::DescriptorSetLayout(context.device(),
+                                             {.flags = vk::DescriptorSetLayoutCreateFlagBits::ePushDescriptorKHR,
+                                              .bindingCount = std::uint32_t(layoutBindings.size()),
+                                              .pBindings = layoutBindings.data()});
+      }()) {
+  const vk::PushConstantRange range{.stageFlags = stages, .offset = 0, .size = pushConstantBytes};
+  const vk::DescriptorSetLayout setLayout = *setLayout_;
+  layout_ = vk::raii::PipelineLayout(context.device(), {.setLayoutCount = 1,
+                                                        .pSetLayouts = &setLayout,
+                                                        .pushConstantRangeCount = pushConstantBytes ? 1u : 0u,
+                                                        .pPushConstantRanges = &range});
+}
+
+Descriptors& Descriptors::buffer(std::uint32_t binding, const Buffer& buffer) {
+  buffers_.push_back({.buffer = buffer.handle(), .offset = 0, .range = VK_WHOLE_SIZE});
+  writes_.push_back({.dstBinding = binding, .descriptorCount = 1, .descriptorType = vk::DescriptorType::eStorageBuffer,
+                     .pBufferInfo = &buffers_.back()});
+  return *this;
+}
+
+Descriptors& Descriptors::storageImage(std::uint32_t binding, vk::ImageView view) {
+  images_.push_back({.imageView = view, .imageLayout = vk::ImageLayout::eGeneral});
+  writes_.push_back({.dstBinding = binding, .descriptorCount = 1, .descriptorType = vk::DescriptorType::eStorageImage,
+                     .pImageInfo = &images_.back()});
+  return *this;
+}
+
+Descriptors& Descriptors::sampledImage(std::uint32_t binding, vk::ImageView view, vk::Sampler sampler, vk::ImageLayout layout) {
+  images_.push_back({.sampler = sampler, .imageView = view, .imageLayout = layout});
+  writes_.push_back({.dstBinding = binding, .descriptorCount = 1, .descriptorType = vk::DescriptorType::eCombinedImageSampler,
+                     .pImageInfo = &images_.back()});
+  return *this;
+}
+
+void Descriptors::push(const vk::raii::CommandBuffer& cmd, vk::PipelineBindPoint point, const PipelineLayout& layout) const {
+  if (!writes_.empty()) cmd.pushDescriptorSetKHR(point, layout.handle(), 0, writes_);
+}
+
+ComputePipeline::ComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
+                                 std::span<const Binding> bindings, std::uint32_t pushConstantBytes, const std::string& name)
+    : layout_(context, bindings, vk::ShaderStageFlagBits::eCompute, pushConstantBytes) {
+  const auto module = shaderModule(context, spirv);
+  pipeline_ = vk::raii::Pipeline(
+      context.device(), nullptr,
+      vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main"},
+                                    .layout = layout_.handle()});
+  context.name(*pipeline_, name);
+}
+
+void ComputePipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
+  cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_);
+  descriptors.push(cmd, vk::PipelineBindPoint::eCompute, layout_);
+}
+
+GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc)
+    : layout_(context, desc.bindings,
+              desc.fragmentSpirv.empty() ? vk::ShaderStageFlags(vk::ShaderStageFlagBits::eVertex)
+                                         : vk::ShaderStageFlagBits::eVertex | vk::ShaderStageFlagBits::eFragment,
+              desc.pushConstantBytes) {
+  const auto vertexModule = shaderModule(context, desc.vertexSpirv);
+  std::optional<vk::raii::ShaderModule> fragmentModule;
+  std::vector<vk::PipelineShaderStageCreateInfo> stages{
+      {.stage = vk::ShaderStageFlagBits::eVertex, .module = *vertexModule, .pName = "main"}};
+  if (!desc.fragmentSpirv.empty()) {
+    fragmentModule.emplace(shaderModule(context, desc.fragmentSpirv));
+    stages.push_back({.stage = vk::ShaderStageFlagBits::eFragment, .module = **fragmentModule, .pName = "main"});
+  }
+  const vk::PipelineVertexInputStateCreateInfo vertexInput{
+      .vertexBindingDescriptionCount = std::uint32_t(desc.vertexBindings.size()),
+      .pVertexBindingDescriptions = desc.vertexBindings.data(),
+      .vertexAttributeDescriptionCount = std::uint32_t(desc.vertexAttributes.size()),
+      .pVertexAttributeDescriptions = desc.vertexAttributes.data()};
+  const vk::PipelineInputAssemblyStateCreateInfo inputAssembly{.topology = vk::PrimitiveTopology::eTriangleList};
+  const vk::PipelineViewportStateCreateInfo viewport{.viewportCount = 1, .scissorCount = 1};
+  const vk::PipelineRasterizationStateCreateInfo rasterization{.polygonMode = vk::PolygonMode::eFill,
+                                                               .cullMode = vk::CullModeFlagBits::eNone,
+                                                               .frontFace = vk::FrontFace::eCounterClockwise,
+                                                               .depthBiasEnable = desc.depthBias,
+                                                               .lineWidth = 1.0f};
+  const vk::PipelineMultisampleStateCreateInfo multisample{.rasterizationSamples = vk::SampleCountFlagBits::e1};
+  const vk::PipelineDepthStencilStateCreateInfo depth{
+      .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE, .depthCompareOp = vk::CompareOp::eLess};
+  const std::vector<vk::PipelineColorBlendAttachmentState> blend(
+      desc.colorFormats.size(),
+      {.blendEnable = VK_FALSE, .colorWriteMask = vk::ColorComponentFlagBits::eR | vk::ColorComponentFlagBits::eG |
+                                                  vk::ColorComponentFlagBits::eB | vk::ColorComponentFlagBits::eA});
+  const vk::PipelineColorBlendStateCreateInfo colorBlend{.attachmentCount = std::uint32_t(blend.size()),
+                                                         .pAttachments = blend.data()};
+  std::vector<vk::DynamicState> dynamic{vk::DynamicState::eViewport, vk::DynamicState::eScissor};
+  if (desc.depthBias) dynamic.push_back(vk::DynamicState::eDepthBias);
+  const vk::PipelineDynamicStateCreateInfo dynamicState{.dynamicStateCount = std::uint32_t(dynamic.size()),
+                                                        .pDynamicStates = dynamic.data()};
+  const vk::PipelineRenderingCreateInfo rendering{.colorAttachmentCount = std::uint32_t(desc.colorFormats.size()),
+                                                  .pColorAttachmentFormats = desc.colorFormats.data(),
+                                                  .depthAttachmentFormat = desc.depthFormat};
+  pipeline_ = vk::raii::Pipeline(context.device(), nullptr,
+                                 vk::GraphicsPipelineCreateInfo{.pNext = &rendering,
+                                                                .stageCount = std::uint32_t(stages.size()),
+                                                                .pStages = stages.data(),
+                                                                .pVertexInputState = &vertexInput,
+                                                                .pInputAssemblyState = &inputAssembly,
+                                                                .pViewportState = &viewport,
+                                                                .pRasterizationState = &rasterization,
+                                                                .pMultisampleState = &multisample,
+                                                                .pDepthStencilState = &depth,
+                                                                .pColorBlendState = &colorBlend,
+                                                                .pDynamicState = &dynamicState,
+                                                                .layout = layout_.handle()});
+  context.name(*pipeline_, desc.name);
+}
+
+void GraphicsPipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
+  cmd.bindPipeline(vk::PipelineBindPoint::eGraphics, *pipeline_);
+  descriptors.push(cmd, vk::PipelineBindPoint::eGraphics, layout_);
+}
+
+vk::raii::Sampler makeNearestSampler(const Context& context, const std::string& name) {
+  vk::raii::Sampler sampler(context.device(), {.magFilter = vk::Filter::eNearest,
+                                               .minFilter = vk::Filter::eNearest,
+                                               .mipmapMode = vk::SamplerMipmapMode::eNearest,
+                                               .addressModeU = vk::SamplerAddressMode::eClampToEdge,
+                                               .addressModeV = vk::SamplerAddressMode::eClampToEdge,
+                                               .addressModeW = vk::SamplerAddressMode::eClampToEdge,
+                                               .maxLod = 0.0f});
+  context.name(*sampler, name);
+  return sampler;
+}
+
+}  // namespace penumbra::gpu

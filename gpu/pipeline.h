@@ -1,0 +1,95 @@
+// Pipelines with push descriptors (no pools to manage): one set, bound per dispatch or draw.
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gpu/context.h"
+#include "gpu/resources.h"
+
+namespace penumbra::gpu {
+
+struct Binding {
+  std::uint32_t binding;
+  vk::DescriptorType type;
+};
+
+// Descriptor set layout + pipeline layout shared by compute and graphics pipelines.
+class PipelineLayout {
+ public:
+  PipelineLayout(const Context& context, std::span<const Binding> bindings, vk::ShaderStageFlags stages,
+                 std::uint32_t pushConstantBytes);
+  vk::PipelineLayout handle() const { return *layout_; }
+  vk::ShaderStageFlags stages() const { return stages_; }
+
+ private:
+  vk::ShaderStageFlags stages_;
+  vk::raii::DescriptorSetLayout setLayout_;
+  vk::raii::PipelineLayout layout_{nullptr};
+};
+
+// Collects descriptor writes for one push; keeps the infos alive until pushed.
+class Descriptors {
+ public:
+  Descriptors& buffer(std::uint32_t binding, const Buffer& buffer);
+  Descriptors& storageImage(std::uint32_t binding, vk::ImageView view);
+  Descriptors& sampledImage(std::uint32_t binding, vk::ImageView view, vk::Sampler sampler,
+                            vk::ImageLayout layout = vk::ImageLayout::eShaderReadOnlyOptimal);
+  void push(const vk::raii::CommandBuffer& cmd, vk::PipelineBindPoint point, const PipelineLayout& layout) const;
+
+ private:
+  std::deque<vk::DescriptorBufferInfo> buffers_;
+  std::deque<vk::DescriptorImageInfo> images_;
+  std::vector<vk::WriteDescriptorSet> writes_;
+};
+
+class ComputePipeline {
+ public:
+  ComputePipeline(const Context& context, std::span<const std::uint32_t> spirv, std::span<const Binding> bindings,
+                  std::uint32_t pushConstantBytes, const std::string& name);
+  void bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
+  template <typename T>
+  void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
+    cmd.pushConstants<T>(layout_.handle(), vk::ShaderStageFlagBits::eCompute, 0, value);
+  }
+
+ private:
+  PipelineLayout layout_;
+  vk::raii::Pipeline pipeline_{nullptr};
+};
+
+struct GraphicsPipelineDesc {
+  std::span<const std::uint32_t> vertexSpirv;
+  std::span<const std::uint32_t> fragmentSpirv;  // empty: depth-only
+  std::vector<vk::VertexInputBindingDescription> vertexBindings;
+  std::vector<vk::VertexInputAttributeDescription> vertexAttributes;
+  std::vector<vk::Format> colorFormats;
+  vk::Format depthFormat = vk::Format::eD32Sfloat;
+  bool depthBias = false;  // slope-scaled bias set per draw with setDepthBias
+  std::vector<Binding> bindings;
+  std::uint32_t pushConstantBytes = 0;
+  std::string name;
+};
+
+// Triangle-list pipeline, no culling (scenes are drawn two-sided), depth test LESS, dynamic
+// viewport/scissor (and depth bias when enabled); used with dynamic rendering.
+class GraphicsPipeline {
+ public:
+  GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc);
+  void bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
+  template <typename T>
+  void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
+    cmd.pushConstants<T>(layout_.handle(), layout_.stages(), 0, value);
+  }
+
+ private:
+  PipelineLayout layout_;
+  vk::raii::Pipeline pipeline_{nullptr};
+};
+
+vk::raii::Sampler makeNearestSampler(const Context& context, const std::string& name);
+
+}  // namespace penumbra::gpu

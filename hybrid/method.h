@@ -1,0 +1,35 @@
+// A method fills the per-pixel visibility buffer (fraction of light visible, 0..1) for one frame
+// and reports what it did. Methods compose the shared passes the Renderer owns; each lives in its
+// own file, and the registry only maps names to factories.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hybrid/frame_stats.h"
+
+namespace penumbra {
+
+class Renderer;
+struct RenderSettings;
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  // Leaves the frame's visibility in renderer.visibility() and records passes into stats.
+  virtual void run(Renderer& renderer, FrameStats& stats) = 0;
+  // What the shared frame data must say for this method.
+  virtual std::uint32_t shadowFilter(const RenderSettings&) const { return 0; }  // FILTER_NONE
+  virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;
+};
+
+std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names
+std::vector<std::string> methodNames();
+
+// Factories, one per method file.
+std::unique_ptr<Method> makeShadowMapMethod(bool filtered);  // sm (filtered = false), pcf (true)
+std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
+
+}  // namespace penumbra

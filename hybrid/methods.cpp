@@ -1,0 +1,40 @@
+// The method registry: names to factories, nothing else.
+#include <map>
+
+#include "core/scene.h"
+#include "hybrid/method.h"
+#include "hybrid/renderer.h"
+
+namespace penumbra {
+namespace {
+
+const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry() {
+  static const std::map<std::string, std::function<std::unique_ptr<Method>()>> methods{
+      {"sm", [] { return makeShadowMapMethod(false); }},
+      {"pcf", [] { return makeShadowMapMethod(true); }},
+      {"ref", [] { return makeReferenceMethod(); }},
+  };
+  return methods;
+}
+
+}  // namespace
+
+std::uint32_t Method::samplesPerPixel(const RenderSettings& settings) const { return settings.spp; }
+
+std::vector<std::string> methodNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, factory] : registry()) names.push_back(name);
+  return names;
+}
+
+std::unique_ptr<Method> makeMethod(const std::string& name) {
+  const auto it = registry().find(name);
+  if (it == registry().end()) {
+    std::string known;
+    for (const std::string& n : methodNames()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("unknown method '" + name + "'; available methods: " + known);
+  }
+  return it->second();
+}
+
+}  // namespace penumbra

@@ -1,0 +1,106 @@
+#include "hybrid/renderer.h"
+
+#include <chrono>
+
+#include "core/gpu_light.h"
+#include "hybrid/method.h"
+
+namespace penumbra {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
+
+}  // namespace
+
+Renderer::Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings)
+    : context_(context),
+      scene_(scene),
+      settings_(settings),
+      bounds_(scene.bounds()),
+      geometry_(context, scene),
+      gbuffer_(context, settings.width, settings.height),
+      lookup_(context),
+      shade_(context),
+      frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
+      visibility_(context, pixels(settings) * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer, "visibility"),
+      color_(context, pixels(settings) * 4, vk::BufferUsageFlagBits::eStorageBuffer, "shaded colour"),
+      timer_(context) {}
+
+const EmbreeTracer& Renderer::embree(FrameStats& stats) {
+  if (!embree_) {
+    embree_ = std::make_unique<EmbreeTracer>(scene_);
+    stats.setupMs["embree_build"] = embree_->buildMs();
+  }
+  return *embree_;
+}
+
+void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp) {
+  view_ = cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height));
+  cameraPosition_ = camera.eye;
+  frameData_ = {};
+  frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
+  frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
+  frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
+  frameData_.width = settings_.width;
+  frameData_.height = settings_.height;
+  frameData_.spp = shared::lightSampleCount(frameData_.light, spp);
+  frameData_.shadowFilter = filter;
+  frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
+}
+
+void Renderer::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
+  timer_.begin(cmd, "gbuffer");
+  gbuffer_.record(cmd, geometry_, view_, cameraPosition_);
+  timer_.end(cmd);
+}
+
+void Renderer::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+  // Made on first use and again only when the light needs a different number of faces.
+  if (!shadowMap_ || shadowMap_->faceCount() != frameData_.shadow.faceCount) {
+    shadowMap_ = std::make_unique<raster::ShadowMapPass>(context_, settings_.shadowMap, frameData_.shadow.faceCount);
+  }
+  stats.memoryBytes["shadow_map"] = shadowMap_->depth().bytes();
+  timer_.begin(cmd, "shadow_map");
+  shadowMap_->record(cmd, geometry_, frameData_.shadow);
+  timer_.end(cmd);
+}
+
+Frame Renderer::render(const std::string& methodName, const Camera& camera, const Light& light) {
+  std::unique_ptr<Method> method = makeMethod(methodName);
+  prepareFrame(camera, light, method->shadowFilter(settings_), method->samplesPerPixel(settings_));
+
+  Frame frame;
+  frame.width = settings_.width;
+  frame.height = settings_.height;
+  FrameStats& stats = frame.stats;
+  stats.method = methodName;
+  stats.samplesPerPixel = frameData_.spp;
+  timer_.reset();
+
+  const auto start = std::chrono::steady_clock::now();
+  method->run(*this, stats);
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    timer_.begin(cmd, "shade");
+    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, color_);
+    timer_.end(cmd);
+  });
+  stats.totalMs = msSince(start);
+  for (const auto& [pass, ms] : timer_.read()) stats.addPass(pass, ms);
+
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { gbuffer_.recordReadback(cmd); });
+  const std::vector<glm::vec4> positions = gbuffer_.positions();
+  frame.covered.resize(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
+  frame.visibility = visibility_.download<float>(positions.size());
+  frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
+
+  stats.memoryBytes["scene_geometry"] = geometry_.bytes();
+  stats.memoryBytes["gbuffer"] = gbuffer_.bytes();
+  return frame;
+}
+
+}  // namespace penumbra

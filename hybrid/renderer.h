@@ -1,0 +1,89 @@
+// Owns what every method shares for one scene on one device: the uploaded geometry, the
+// G-buffer, the shadow map, the lookup and shading passes, the Embree reference (built on first
+// use), and the frame's buffers. render() runs one method and the shared shading pass.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/scene.h"
+#include "gpu/timer.h"
+#include "hybrid/frame_stats.h"
+#include "hybrid/shade_pass.h"
+#include "raster/gbuffer_pass.h"
+#include "raster/shadow_lookup_pass.h"
+#include "raster/shadow_map_pass.h"
+#include "raytrace/embree_tracer.h"
+#include "shared/frame.h"
+
+namespace penumbra {
+
+struct RenderSettings {
+  std::uint32_t width = 256;
+  std::uint32_t height = 256;
+  std::uint32_t spp = 16;            // light samples per pixel for area lights
+  std::uint32_t referenceSpp = 0;    // samples for `ref`; 0 = spp
+  raster::ShadowMapSettings shadowMap;
+  std::uint32_t pcfFilter = FILTER_PCF3;  // kernel of `pcf`: FILTER_PCF3, FILTER_PCF5, FILTER_POISSON
+  float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
+};
+
+// One rendered frame, read back to the host.
+struct Frame {
+  std::uint32_t width = 0, height = 0;
+  std::vector<float> visibility;      // width*height, row 0 at the top
+  std::vector<std::uint8_t> covered;  // 1 where geometry covers the pixel
+  std::vector<std::uint8_t> rgba;     // shaded sRGB image, width*height*4
+  FrameStats stats;
+};
+
+class Renderer {
+ public:
+  Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
+  Frame render(const std::string& method, const Camera& camera, const Light& light);
+
+  // For methods, valid during render():
+  const gpu::Context& context() const { return context_; }
+  const Scene& scene() const { return scene_; }
+  const RenderSettings& settings() const { return settings_; }
+  const shared::FrameData& frameData() const { return frameData_; }
+  const gpu::Buffer& frameBuffer() const { return frameBuffer_; }
+  const gpu::Buffer& visibility() const { return visibility_; }
+  gpu::Buffer& visibility() { return visibility_; }
+  gpu::GpuTimer& timer() { return timer_; }
+  const raster::SceneGeometry& geometry() const { return geometry_; }
+  const raster::GBufferPass& gbuffer() const { return gbuffer_; }
+  const raster::ShadowMapPass& shadowMap() const { return *shadowMap_; }
+  const raster::ShadowLookupPass& shadowLookup() const { return lookup_; }
+  const ViewMatrices& view() const { return view_; }
+  const glm::vec3& cameraPosition() const { return cameraPosition_; }
+  const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
+
+  // Records the camera pass with its timer scope (every method starts with it).
+  void recordGBuffer(const vk::raii::CommandBuffer& cmd);
+  // Records the light pass with its timer scope (making the map for this light if needed).
+  void recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
+
+ private:
+  void prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp);
+
+  const gpu::Context& context_;
+  const Scene& scene_;
+  RenderSettings settings_;
+  Bounds bounds_;
+  raster::SceneGeometry geometry_;
+  raster::GBufferPass gbuffer_;
+  raster::ShadowLookupPass lookup_;
+  ShadePass shade_;
+  std::unique_ptr<raster::ShadowMapPass> shadowMap_;
+  std::unique_ptr<EmbreeTracer> embree_;
+  gpu::Buffer frameBuffer_, visibility_, color_;
+  gpu::GpuTimer timer_;
+  shared::FrameData frameData_{};
+  ViewMatrices view_;
+  glm::vec3 cameraPosition_{0.0f};
+};
+
+}  // namespace penumbra

@@ -1,0 +1,18 @@
+// The shading pass every method shares: G-buffer + visibility buffer -> sRGB RGBA8 image.
+#pragma once
+#include "gpu/pipeline.h"
+#include "raster/gbuffer_pass.h"
+
+namespace penumbra {
+
+class ShadePass {
+ public:
+  explicit ShadePass(const gpu::Context& context);
+  void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
+              const gpu::Buffer& visibility, const gpu::Buffer& color) const;
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace penumbra

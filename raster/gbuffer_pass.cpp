@@ -1,0 +1,95 @@
+#include "raster/gbuffer_pass.h"
+
+#include "gbuffer_frag.h"
+#include "gbuffer_vert.h"
+#include "shared/gbuffer.h"
+#include "shared/raster.h"
+
+namespace penumbra::raster {
+namespace {
+
+using Usage = vk::ImageUsageFlagBits;
+constexpr vk::Format kPositionFormat = vk::Format::eR32G32B32A32Sfloat;
+constexpr vk::Format kNormalFormat = vk::Format::eR32G32B32A32Sfloat;
+constexpr vk::Format kAlbedoFormat = vk::Format::eR8G8B8A8Unorm;
+
+gpu::GraphicsPipelineDesc pipelineDesc() {
+  gpu::GraphicsPipelineDesc d;
+  d.vertexSpirv = gbuffer_vert;
+  d.fragmentSpirv = gbuffer_frag;
+  d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
+  d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)},
+                        {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
+                        {2, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, color)}};
+  d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO
+  d.pushConstantBytes = sizeof(shared::GBufferPush);
+  d.name = "gbuffer pipeline";
+  return d;
+}
+
+}  // namespace
+
+GBufferPass::GBufferPass(const gpu::Context& context, std::uint32_t width, std::uint32_t height)
+    : width_(width),
+      height_(height),
+      position_(context, {kPositionFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer position"}),
+      normal_(context, {kNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer normal"}),
+      albedo_(context, {kAlbedoFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage, "gbuffer albedo"}),
+      depth_(context, {vk::Format::eD32Sfloat, width, height, 1, Usage::eDepthStencilAttachment, "gbuffer depth"}),
+      positionReadback_(context, position_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer position readback"),
+      normalReadback_(context, normal_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer normal readback"),
+      pipeline_(context, pipelineDesc()) {}
+
+void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const ViewMatrices& view,
+                         const glm::vec3& cameraPosition) const {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  const gpu::Transition toAttachment{vk::ImageLayout::eUndefined, vk::ImageLayout::eColorAttachmentOptimal,
+                                     Stage::eAllCommands, Access::eMemoryRead | Access::eMemoryWrite,
+                                     Stage::eColorAttachmentOutput, Access::eColorAttachmentWrite};
+  for (const gpu::Image* image : {&position_, &normal_, &albedo_}) gpu::transition(cmd, *image, toAttachment);
+  gpu::transition(cmd, depth_, {vk::ImageLayout::eUndefined, vk::ImageLayout::eDepthAttachmentOptimal, Stage::eAllCommands,
+                                Access::eMemoryWrite, Stage::eEarlyFragmentTests | Stage::eLateFragmentTests,
+                                Access::eDepthStencilAttachmentWrite | Access::eDepthStencilAttachmentRead});
+
+  // Position w = 0 and a zero normal mark pixels no triangle covers.
+  auto colorAttachment = [](const gpu::Image& image) {
+    return vk::RenderingAttachmentInfo{.imageView = image.view(),
+                                       .imageLayout = vk::ImageLayout::eColorAttachmentOptimal,
+                                       .loadOp = vk::AttachmentLoadOp::eClear,
+                                       .storeOp = vk::AttachmentStoreOp::eStore,
+                                       .clearValue = vk::ClearColorValue(std::array<float, 4>{0, 0, 0, 0})};
+  };
+  const std::array<vk::RenderingAttachmentInfo, GBUFFER_COUNT> colors{colorAttachment(position_), colorAttachment(normal_),
+                                                                      colorAttachment(albedo_)};
+  const vk::RenderingAttachmentInfo depth{.imageView = depth_.view(),
+                                          .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
+                                          .loadOp = vk::AttachmentLoadOp::eClear,
+                                          .storeOp = vk::AttachmentStoreOp::eDontCare,
+                                          .clearValue = vk::ClearValue{.depthStencil = {.depth = 1.0f, .stencil = 0}}};
+  const vk::Rect2D area{{0, 0}, {width_, height_}};
+  cmd.beginRendering({.renderArea = area, .layerCount = 1, .colorAttachmentCount = std::uint32_t(colors.size()),
+                      .pColorAttachments = colors.data(), .pDepthAttachment = &depth});
+  cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f});
+  cmd.setScissor(0, area);
+  pipeline_.bind(cmd, gpu::Descriptors{});
+  pipeline_.pushConstants(cmd, shared::GBufferPush{view.viewProj, glm::vec4(cameraPosition, 1.0f)});
+  geometry.bind(cmd);
+  geometry.draw(cmd);
+  cmd.endRendering();
+
+  const gpu::Transition toGeneral{vk::ImageLayout::eColorAttachmentOptimal, vk::ImageLayout::eGeneral,
+                                  Stage::eColorAttachmentOutput, Access::eColorAttachmentWrite,
+                                  Stage::eComputeShader | Stage::eCopy, Access::eShaderStorageRead | Access::eTransferRead};
+  for (const gpu::Image* image : {&position_, &normal_, &albedo_}) gpu::transition(cmd, *image, toGeneral);
+}
+
+void GBufferPass::recordReadback(const vk::raii::CommandBuffer& cmd) const {
+  gpu::copyImageToBuffer(cmd, position_, positionReadback_);
+  gpu::copyImageToBuffer(cmd, normal_, normalReadback_);
+}
+
+std::vector<glm::vec4> GBufferPass::positions() const { return positionReadback_.download<glm::vec4>(std::size_t(width_) * height_); }
+std::vector<glm::vec4> GBufferPass::normals() const { return normalReadback_.download<glm::vec4>(std::size_t(width_) * height_); }
+
+}  // namespace penumbra::raster

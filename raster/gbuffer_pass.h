@@ -1,0 +1,39 @@
+// Camera pass: rasterizes the scene into a G-buffer (world position + coverage, normal, albedo).
+// After record() the colour attachments are in GENERAL layout, readable by compute passes and copies.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/camera.h"
+#include "gpu/pipeline.h"
+#include "raster/scene_geometry.h"
+
+namespace penumbra::raster {
+
+class GBufferPass {
+ public:
+  GBufferPass(const gpu::Context& context, std::uint32_t width, std::uint32_t height);
+  void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const ViewMatrices& view,
+              const glm::vec3& cameraPosition) const;
+  // Copies position and normal to host-visible memory (record after record()).
+  void recordReadback(const vk::raii::CommandBuffer& cmd) const;
+  std::vector<glm::vec4> positions() const;  // after the readback completed; w = coverage
+  std::vector<glm::vec4> normals() const;
+
+  const gpu::Image& position() const { return position_; }
+  const gpu::Image& normal() const { return normal_; }
+  const gpu::Image& albedo() const { return albedo_; }
+  std::uint32_t width() const { return width_; }
+  std::uint32_t height() const { return height_; }
+  vk::DeviceSize bytes() const { return position_.bytes() + normal_.bytes() + albedo_.bytes() + depth_.bytes(); }
+
+ private:
+  std::uint32_t width_, height_;
+  gpu::Image position_, normal_, albedo_, depth_;
+  gpu::Buffer positionReadback_, normalReadback_;
+  gpu::GraphicsPipeline pipeline_;
+};
+
+}  // namespace penumbra::raster

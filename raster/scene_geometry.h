@@ -1,0 +1,34 @@
+// The scene's triangles uploaded once for rasterization: one interleaved vertex buffer and one
+// index buffer, so every raster pass draws the whole scene with a single indexed draw.
+#pragma once
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "core/scene.h"
+#include "gpu/resources.h"
+
+namespace penumbra::raster {
+
+struct RasterVertex {  // vertex attributes (locations 0, 1, 2)
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec3 color;
+};
+static_assert(sizeof(RasterVertex) == 36);
+
+class SceneGeometry {
+ public:
+  SceneGeometry(const gpu::Context& context, const Scene& scene);
+  void bind(const vk::raii::CommandBuffer& cmd) const;  // vertex + index buffers
+  void draw(const vk::raii::CommandBuffer& cmd) const;  // the whole scene
+  std::uint32_t indexCount() const { return indexCount_; }
+  vk::DeviceSize bytes() const { return vertices_.size() + indices_.size(); }
+
+ private:
+  gpu::Buffer vertices_;
+  gpu::Buffer indices_;
+  std::uint32_t indexCount_ = 0;
+};
+
+}  // namespace penumbra::raster

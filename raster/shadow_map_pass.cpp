@@ -1,0 +1,132 @@
+#include "raster/shadow_map_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "shadow_map_vert.h"
+#include "shared/raster.h"
+
+namespace penumbra::raster {
+namespace {
+
+glm::vec3 upFor(const glm::vec3& forward) {
+  return std::abs(forward.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+}
+
+glm::mat4 perspectiveVk(float fovY, float nearPlane, float farPlane) {
+  glm::mat4 p = glm::perspective(fovY, 1.0f, nearPlane, farPlane);
+  p[1][1] *= -1.0f;  // Vulkan NDC y points down
+  return p;
+}
+
+constexpr float kMaxSingleFaceFov = glm::radians(120.0f);
+
+}  // namespace
+
+shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings) {
+  shared::ShadowMapInfo info{};
+  const glm::vec3 centre = bounds.center();
+  const float radius = std::max(bounds.radius(), 1e-6f) * 1.01f;
+  const float res = float(settings.resolution);
+  info.resolution = settings.resolution;
+  info.normalOffset = settings.normalOffsetTexels;
+  info.faceCount = 1;
+
+  if (light.type == LIGHT_DIRECTIONAL) {
+    const glm::vec3 dir = glm::normalize(glm::vec3(light.direction));
+    const glm::vec3 eye = centre - dir * (2.0f * radius);
+    glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, radius * 0.5f, radius * 3.5f);
+    proj[1][1] *= -1.0f;
+    info.kind = SHADOW_ORTHO;
+    info.viewProj[0] = proj * glm::lookAt(eye, centre, upFor(dir));
+    info.texelWorld = 2.0f * radius / res;
+    return info;
+  }
+
+  const glm::vec3 pos = glm::vec3(light.position);
+  info.lightPosition = glm::vec4(pos, 1.0f);
+  const float distance = glm::length(centre - pos);
+  const float farPlane = distance + radius;
+  // The half-angle under which the bounding sphere is seen; a spot never needs more than its cone.
+  float halfFov = distance > radius ? std::asin(radius / distance) : kMaxSingleFaceFov;
+  glm::vec3 forward = distance > 0.0f ? (centre - pos) / distance : glm::vec3(0, -1, 0);
+  if (light.type == LIGHT_SPOT) {
+    const float coneHalf = std::acos(std::clamp(light.cosHalfAngle, -1.0f, 1.0f));
+    if (distance <= radius || coneHalf < halfFov) {
+      halfFov = coneHalf;
+      forward = glm::normalize(glm::vec3(light.direction));
+    }
+  }
+  if (2.0f * halfFov < kMaxSingleFaceFov) {
+    const float nearPlane = std::max(distance - radius, farPlane * 1e-4f);
+    info.kind = SHADOW_PERSPECTIVE;
+    info.viewProj[0] = perspectiveVk(2.0f * halfFov, nearPlane, farPlane) * glm::lookAt(pos, pos + forward, upFor(forward));
+    info.texelWorld = 2.0f * std::tan(halfFov) / res;
+    return info;
+  }
+
+  // Cube: faces +X,-X,+Y,-Y,+Z,-Z in the order shadowFace() returns them.
+  const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const float farCube = distance + radius;
+  const glm::mat4 proj = perspectiveVk(glm::radians(90.0f), farCube * 1e-4f, farCube);
+  info.kind = SHADOW_CUBE;
+  info.faceCount = 6;
+  for (int f = 0; f < 6; ++f) info.viewProj[f] = proj * glm::lookAt(pos, pos + axes[f], upFor(axes[f]));
+  info.texelWorld = 2.0f / res;  // tan(45 deg) = 1
+  return info;
+}
+
+ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount)
+    : settings_(settings),
+      depth_(context, {vk::Format::eD32Sfloat, settings.resolution, settings.resolution, faceCount,
+                       vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eSampled, "shadow map", true}),
+      sampler_(gpu::makeNearestSampler(context, "shadow map sampler")),
+      pipeline_(context, [] {
+        gpu::GraphicsPipelineDesc d;
+        d.vertexSpirv = shadow_map_vert;
+        d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
+        d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+        d.depthBias = true;
+        d.pushConstantBytes = sizeof(shared::ShadowMapPush);
+        d.name = "shadow map pipeline";
+        return d;
+      }()) {}
+
+void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
+                           const shared::ShadowMapInfo& info) const {
+  if (info.faceCount != faceCount() || info.resolution != settings_.resolution) {
+    throw std::logic_error("ShadowMapPass: shadow map info does not match the pass's faces or resolution");
+  }
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  gpu::transition(cmd, depth_, {vk::ImageLayout::eUndefined, vk::ImageLayout::eDepthAttachmentOptimal, Stage::eAllCommands,
+                                Access::eMemoryRead, Stage::eEarlyFragmentTests | Stage::eLateFragmentTests,
+                                Access::eDepthStencilAttachmentWrite | Access::eDepthStencilAttachmentRead});
+  const std::uint32_t res = settings_.resolution;
+  const vk::Rect2D area{{0, 0}, {res, res}};
+  for (std::uint32_t face = 0; face < info.faceCount; ++face) {
+    const vk::RenderingAttachmentInfo depth{.imageView = depth_.layerView(face),
+                                            .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
+                                            .loadOp = vk::AttachmentLoadOp::eClear,
+                                            .storeOp = vk::AttachmentStoreOp::eStore,
+                                            .clearValue = vk::ClearValue{.depthStencil = {.depth = 1.0f, .stencil = 0}}};
+    cmd.beginRendering({.renderArea = area, .layerCount = 1, .pDepthAttachment = &depth});
+    cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(res), float(res), 0.0f, 1.0f});
+    cmd.setScissor(0, area);
+    cmd.setDepthBias(settings_.depthBiasConstant, 0.0f, settings_.depthBiasSlope);
+    pipeline_.bind(cmd, gpu::Descriptors{});
+    pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
+    geometry.bind(cmd);
+    geometry.draw(cmd);
+    cmd.endRendering();
+  }
+  gpu::transition(cmd, depth_, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eShaderReadOnlyOptimal,
+                                Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eComputeShader,
+                                Access::eShaderSampledRead});
+}
+
+}  // namespace penumbra::raster

@@ -1,0 +1,42 @@
+// Light pass: depth shadow map(s) of the whole scene as seen from the light.
+//   directional            -> one orthographic face fitted to the scene's bounding sphere
+//   spot, or a light outside the bounding sphere -> one perspective face aimed at the scene
+//   a light inside the bounding sphere           -> a cube: six 90-degree faces
+// Slope-scaled depth bias is applied by the rasterizer; the normal offset by the lookups.
+#pragma once
+#include <cstdint>
+
+#include "core/scene.h"
+#include "gpu/pipeline.h"
+#include "raster/scene_geometry.h"
+#include "shared/frame.h"
+
+namespace penumbra::raster {
+
+struct ShadowMapSettings {
+  std::uint32_t resolution = 2048;
+  float depthBiasConstant = 1.0f;  // in units of the minimum resolvable depth difference
+  float depthBiasSlope = 1.5f;     // times the triangle's depth slope
+  float normalOffsetTexels = 0.75f;
+};
+
+// Projection(s) for `light` covering `bounds`; pure math, no GPU.
+shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings);
+
+class ShadowMapPass {
+ public:
+  ShadowMapPass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount);
+  // Renders info.faceCount faces; leaves the map in SHADER_READ_ONLY layout for compute lookups.
+  void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info) const;
+  const gpu::Image& depth() const { return depth_; }
+  vk::Sampler sampler() const { return *sampler_; }
+  std::uint32_t faceCount() const { return depth_.desc().layers; }
+
+ private:
+  ShadowMapSettings settings_;
+  gpu::Image depth_;
+  vk::raii::Sampler sampler_;
+  gpu::GraphicsPipeline pipeline_;
+};
+
+}  // namespace penumbra::raster

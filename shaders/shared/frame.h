@@ -1,0 +1,58 @@
+// Per-frame data shared by the raster, lookup and shading passes (one storage buffer).
+#ifndef PENUMBRA_SHARED_FRAME_H
+#define PENUMBRA_SHARED_FRAME_H
+#include "shared/glsl_cpp.h"
+#include "shared/light.h"
+PN_BEGIN
+
+#define SHADOW_MAX_FACES 6
+#define SHADOW_ORTHO 0u        // directional light: one orthographic face
+#define SHADOW_PERSPECTIVE 1u  // light outside the scene (or a spot): one perspective face
+#define SHADOW_CUBE 2u         // light inside the scene: six 90-degree faces (+X,-X,+Y,-Y,+Z,-Z)
+
+#define FILTER_NONE 0u     // one texel: plain shadow mapping
+#define FILTER_PCF3 1u     // 3x3 percentage-closer filtering
+#define FILTER_PCF5 2u     // 5x5
+#define FILTER_POISSON 3u  // 16-tap Poisson disc, rotated per pixel
+
+// std430, 448 bytes.
+struct ShadowMapInfo {
+  mat4 viewProj[SHADOW_MAX_FACES];
+  vec4 lightPosition;  // xyz: projection centre of the perspective/cube faces
+  uint kind;           // SHADOW_ORTHO / SHADOW_PERSPECTIVE / SHADOW_CUBE
+  uint faceCount;
+  uint resolution;     // texels per side of each face
+  float texelWorld;    // ortho: world size of one texel; perspective/cube: size at unit distance
+  float normalOffset;  // receiver offset along its normal, in texels
+  float pad0, pad1, pad2;
+};
+
+// std430.
+struct FrameData {
+  GpuLight light;
+  ShadowMapInfo shadow;
+  vec4 cameraPosition;  // xyz
+  uint width;
+  uint height;
+  uint spp;
+  uint shadowFilter;  // FILTER_* for the lookup pass
+};
+
+// The cube face a world point falls in, seen from the light (major axis of p - light).
+PN_FN uint shadowFace(ShadowMapInfo info, vec3 p) {
+  if (info.kind != SHADOW_CUBE) return 0u;
+  vec3 d = p - vec3(info.lightPosition);
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0f ? 0u : 1u;
+  if (a.y >= a.z) return d.y >= 0.0f ? 2u : 3u;
+  return d.z >= 0.0f ? 4u : 5u;
+}
+
+// World size of one shadow-map texel at p.
+PN_FN float shadowTexelWorld(ShadowMapInfo info, vec3 p) {
+  if (info.kind == SHADOW_ORTHO) return info.texelWorld;
+  return info.texelWorld * length(p - vec3(info.lightPosition));
+}
+
+PN_END
+#endif
