@@ -23,9 +23,13 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   gpu::Context context({.validate = config.validate});
   Renderer renderer(context, setup.scene, setup.settings);
 
+  auto measured = [&](const std::string& method) {
+    for (std::uint32_t i = 0; i < config.warmup; ++i) renderer.render(method, setup.camera, setup.light);
+    return renderer.render(method, setup.camera, setup.light);
+  };
   std::vector<Frame> frames;
-  if (compare) frames.push_back(renderer.render("ref", setup.camera, setup.light));
-  for (const std::string& method : methods) frames.push_back(renderer.render(method, setup.camera, setup.light));
+  if (compare) frames.push_back(measured("ref"));
+  for (const std::string& method : methods) frames.push_back(measured(method));
 
   nlohmann::json context_json = describeRun(config, setup, context);
   const bool soft = setup.light.size > 0.0f;
@@ -85,8 +89,13 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "penumbra: " << e.what() << " (see --help)\n";
+    return 2;
   }
   try {
     if (render->parsed()) return runCommand(config, {method}, false);

@@ -70,6 +70,8 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
+  app.add_option("--warmup", c.warmup, "Frames rendered and discarded before the measured one (shader JIT, caches)")
+      ->capture_default_str()->check(CLI::Range(0u, 100u));
   app.add_flag("--validate", c.validate, "Enable Vulkan validation layers; any message makes the run fail");
   app.add_option("--out", c.outDir, "Output folder")->capture_default_str();
 }
@@ -144,6 +146,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"spp", s.settings.spp},
           {"shadow_map_res", s.settings.shadowMap.resolution},
           {"pcf_kernel", c.pcfKernel},
+          {"warmup_frames", c.warmup},
           {"warnings", s.scene.warnings},
           {"device", context.deviceName()},
           {"driver", context.driverInfo()}};

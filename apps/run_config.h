@@ -24,6 +24,7 @@ struct RunConfig {
   std::uint32_t shadowMapRes = 2048;
   std::string pcfKernel = "3x3";
   float depthBias = 1.0f, slopeBias = 1.5f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
+  std::uint32_t warmup = 1;  // frames rendered and discarded before the measured one
   bool validate = false;
   std::string outDir = "out";
 };

@@ -1,1 +1,450 @@
-// placeholder: being written
+// glTF 2.0 loader. Files are untrusted: the GLB container is validated before tinygltf sees it,
+// external files are confined to the model's folder, and every accessor is bounds-checked.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <optional>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>  // implementation lives in the shared libtinygltf
+
+#include "core/scene_loader.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem, const std::string& fix) {
+  throw InputError("glTF '" + path + "': " + problem + "; " + fix);
+}
+
+std::vector<unsigned char> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot be opened", "check the path and the file permissions");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail(path, "could not be read", "check the file");
+  return bytes;
+}
+
+std::uint32_t readU32(const std::vector<unsigned char>& b, std::size_t at) {
+  return std::uint32_t(b[at]) | std::uint32_t(b[at + 1]) << 8 | std::uint32_t(b[at + 2]) << 16 |
+         std::uint32_t(b[at + 3]) << 24;
+}
+
+// GLB container (spec section "Binary glTF Layout"): checked here so no lying length reaches tinygltf.
+// Returns the JSON chunk text.
+std::string validateGlb(const std::vector<unsigned char>& b, const std::string& path) {
+  const std::string fix = "the .glb is truncated or corrupt; re-export it";
+  const std::size_t size = b.size();
+  if (size < 12) fail(path, "only " + std::to_string(size) + " bytes, shorter than the 12-byte GLB header", fix);
+  if (std::memcmp(b.data(), "glTF", 4) != 0) fail(path, "GLB magic is not 'glTF'", "give a binary glTF (.glb) file");
+  if (readU32(b, 4) != 2) fail(path, "GLB version " + std::to_string(readU32(b, 4)) + " is not 2", "give a glTF 2.0 file");
+  if (readU32(b, 8) != size) {
+    fail(path, "GLB header length " + std::to_string(readU32(b, 8)) + " differs from the file size " +
+         std::to_string(size), fix);
+  }
+  std::size_t offset = 12;
+  std::string json;
+  for (int chunk = 0; offset < size; ++chunk) {
+    const std::string field = "chunk " + std::to_string(chunk) + (chunk == 0 ? " (JSON)" : chunk == 1 ? " (BIN)" : "");
+    if (size - offset < 8) fail(path, field + " header needs 8 bytes but only " + std::to_string(size - offset) + " remain", fix);
+    const std::uint64_t length = readU32(b, offset);
+    if (length > size - offset - 8) {
+      fail(path, field + " length " + std::to_string(length) + " exceeds the " + std::to_string(size - offset - 8) +
+           " bytes left in the file", fix);
+    }
+    if (chunk == 0) {
+      if (readU32(b, offset + 4) != 0x4E4F534Au) fail(path, "first GLB chunk is not JSON", fix);
+      json.assign(reinterpret_cast<const char*>(b.data()) + offset + 8, length);
+    }
+    offset += 8 + length;
+  }
+  if (json.empty()) fail(path, "GLB has no JSON chunk", fix);
+  return json;
+}
+
+// tinygltf reaches the file system only through these callbacks. tinygltf tries
+// "<model folder>/<uri>" and then "./<uri>"; only the first form is ever allowed.
+struct FsContext {
+  std::string folder;  // absolute model folder as given to tinygltf
+  std::string prefix;  // folder + "/"
+  std::vector<std::string> refused;
+};
+
+bool allowedFile(FsContext& ctx, const std::string& candidate) {
+  if (candidate.rfind(ctx.prefix, 0) != 0) return false;  // the working-directory fallback
+  const std::string uri = candidate.substr(ctx.prefix.size());
+  const std::string why = confinedPathProblem(ctx.folder, uri);
+  if (why.empty()) return true;
+  const std::string note = "'" + uri + "' (" + why + ")";
+  if (std::find(ctx.refused.begin(), ctx.refused.end(), note) == ctx.refused.end()) ctx.refused.push_back(note);
+  return false;
+}
+
+bool fsFileExists(const std::string& path, void* user) {
+  std::error_code ec;
+  return allowedFile(*static_cast<FsContext*>(user), path) && fs::is_regular_file(path, ec);
+}
+
+std::string fsExpandFilePath(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
+
+bool fsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  if (!allowedFile(*static_cast<FsContext*>(user), path)) {
+    *err = "outside the model's folder";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    *err = "cannot be opened";
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return !in.bad();
+}
+
+bool fsWriteWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  *err = "the loader never writes files";
+  return false;
+}
+
+// Textures are not used: keep image bytes undecoded so image-heavy files load fast.
+bool skipImageDecode(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+// Refuses external references before tinygltf opens anything, naming their kind.
+void checkUris(const std::string& jsonText, const std::string& path, const std::string& folder) {
+  nlohmann::json doc;
+  const std::size_t end = jsonText.find_last_not_of(std::string(" \t\r\n\0", 5));  // GLB padding
+  try {
+    doc = nlohmann::json::parse(jsonText.substr(0, end == std::string::npos ? 0 : end + 1));
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("is not valid JSON (") + e.what() + ")", "the file is truncated or malformed; re-export it");
+  }
+  if (!doc.is_object()) fail(path, "top-level JSON value is not an object", "give a glTF 2.0 file");
+  for (const char* kind : {"buffers", "images"}) {
+    const auto list = doc.find(kind);
+    if (list == doc.end() || !list->is_array()) continue;
+    for (const auto& item : *list) {
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      const std::string uri = item["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0) continue;
+      const std::string why = confinedPathProblem(folder, uri);
+      if (!why.empty()) {
+        fail(path, std::string("refuses ") + (kind[0] == 'b' ? "buffer" : "image") + " URI '" + uri +
+             "': outside the model's folder (" + why + ")",
+             "copy the file into '" + folder + "' and refer to it relatively, or embed it as a data: URI");
+      }
+    }
+  }
+}
+
+// Bounds-checked view of one accessor's elements.
+struct ElementView {
+  const unsigned char* base = nullptr;
+  std::size_t count = 0, stride = 0;
+  int componentType = 0;
+};
+
+ElementView viewAccessor(const tinygltf::Model& model, int index, const std::string& what, const std::string& path) {
+  const std::string name = what + " accessor " + std::to_string(index);
+  const std::string fix = "the file is corrupt; re-export it";
+  if (index < 0 || std::size_t(index) >= model.accessors.size()) {
+    fail(path, name + " does not exist (the file has " + std::to_string(model.accessors.size()) + " accessors)", fix);
+  }
+  const tinygltf::Accessor& acc = model.accessors[std::size_t(index)];
+  if (acc.sparse.isSparse) fail(path, name + " is sparse, which is not supported", "re-export without sparse accessors");
+  const bool vec3 = what != "indices";
+  const bool typeOk = vec3 ? acc.type == TINYGLTF_TYPE_VEC3 && acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT
+                           : acc.type == TINYGLTF_TYPE_SCALAR && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                                  acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+                                                                  acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+  if (!typeOk) {
+    fail(path, name + " has type " + std::to_string(acc.type) + " / componentType " + std::to_string(acc.componentType) +
+         (vec3 ? ", expected FLOAT VEC3" : ", expected an unsigned SCALAR"), "re-export with standard vertex formats");
+  }
+  if (acc.bufferView < 0 || std::size_t(acc.bufferView) >= model.bufferViews.size()) {
+    fail(path, name + " refers to bufferView " + std::to_string(acc.bufferView) + ", which does not exist", fix);
+  }
+  const tinygltf::BufferView& view = model.bufferViews[std::size_t(acc.bufferView)];
+  if (view.buffer < 0 || std::size_t(view.buffer) >= model.buffers.size()) {
+    fail(path, "bufferView " + std::to_string(acc.bufferView) + " refers to missing buffer " + std::to_string(view.buffer), fix);
+  }
+  const std::size_t bufferSize = model.buffers[std::size_t(view.buffer)].data.size();
+  if (view.byteOffset > bufferSize || view.byteLength > bufferSize - view.byteOffset) {
+    fail(path, "bufferView " + std::to_string(acc.bufferView) + " (offset " + std::to_string(view.byteOffset) +
+         ", length " + std::to_string(view.byteLength) + ") lies outside its " + std::to_string(bufferSize) + "-byte buffer", fix);
+  }
+  const std::size_t elementSize = std::size_t(tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType))) *
+                                  std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(acc.type)));
+  ElementView out;
+  out.count = acc.count;
+  out.stride = view.byteStride != 0 ? view.byteStride : elementSize;
+  out.componentType = acc.componentType;
+  out.base = model.buffers[std::size_t(view.buffer)].data.data() + view.byteOffset + acc.byteOffset;
+  if (acc.count == 0) return out;
+  // offset + stride * (count - 1) + elementSize <= byteLength, written so nothing can overflow.
+  const bool fits = acc.byteOffset <= view.byteLength && elementSize <= view.byteLength - acc.byteOffset &&
+                    acc.count - 1 <= (view.byteLength - acc.byteOffset - elementSize) / out.stride;
+  if (!fits) {
+    fail(path, name + " (offset " + std::to_string(acc.byteOffset) + ", " + std::to_string(acc.count) +
+         " elements, stride " + std::to_string(out.stride) + ") reads past the end of its " +
+         std::to_string(view.byteLength) + "-byte bufferView " + std::to_string(acc.bufferView), fix);
+  }
+  return out;
+}
+
+std::vector<glm::vec3> readVec3(const ElementView& v) {
+  std::vector<glm::vec3> out(v.count);
+  for (std::size_t i = 0; i < v.count; ++i) std::memcpy(&out[i], v.base + i * v.stride, sizeof(glm::vec3));  // little-endian host
+  return out;
+}
+
+std::vector<std::uint32_t> readIndices(const ElementView& v) {
+  std::vector<std::uint32_t> out(v.count);
+  for (std::size_t i = 0; i < v.count; ++i) {
+    const unsigned char* p = v.base + i * v.stride;
+    if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+      out[i] = *p;
+    } else if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+      std::uint16_t s;
+      std::memcpy(&s, p, 2);
+      out[i] = s;
+    } else {
+      std::memcpy(&out[i], p, 4);
+    }
+  }
+  return out;
+}
+
+glm::mat4 localTransform(const tinygltf::Node& node) {
+  if (node.matrix.size() == 16) {
+    glm::dmat4 m;
+    std::memcpy(glm::value_ptr(m), node.matrix.data(), sizeof(m));  // both column-major
+    return glm::mat4(m);
+  }
+  glm::dmat4 t(1.0), r(1.0), s(1.0);
+  if (node.translation.size() == 3) t = glm::translate(glm::dmat4(1.0), glm::make_vec3(node.translation.data()));
+  if (node.rotation.size() == 4) {
+    const auto& q = node.rotation;  // glTF order x, y, z, w
+    r = glm::mat4_cast(glm::normalize(glm::dquat(q[3], q[0], q[1], q[2])));
+  }
+  if (node.scale.size() == 3) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
+  return glm::mat4(t * r * s);
+}
+
+glm::vec3 worldDirection(const glm::mat4& world, const glm::vec3& local) {
+  const glm::vec3 d = glm::mat3(world) * local;
+  const float len = glm::length(d);
+  return len > 0.0f && std::isfinite(len) ? d / len : local;
+}
+
+glm::vec3 rgb(const std::vector<double>& c, glm::vec3 fallback) {
+  return c.size() >= 3 ? glm::vec3(float(c[0]), float(c[1]), float(c[2])) : fallback;
+}
+
+struct Converter {
+  const tinygltf::Model& model;
+  const std::string& path;
+  Scene& scene;
+  std::vector<char> onPath;  // cycle guard: a node that is its own ancestor would recurse forever
+  std::size_t visits = 0;
+  std::optional<glm::mat4> cameraWorld;
+  float yfov = 0.0f;
+  bool warnedOrtho = false;
+
+  void addPrimitive(const tinygltf::Mesh& mesh, std::size_t p, const glm::mat4& world) {
+    const tinygltf::Primitive& prim = mesh.primitives[p];
+    const std::string name = (mesh.name.empty() ? "mesh" : mesh.name) + "/" + std::to_string(p);
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      scene.warnings.push_back("glTF primitive '" + name + "' skipped: mode " + std::to_string(mode) + " is points or lines");
+      return;
+    }
+    const auto pos = prim.attributes.find("POSITION");
+    if (pos == prim.attributes.end()) {
+      scene.warnings.push_back("glTF primitive '" + name + "' skipped: no POSITION attribute");
+      return;
+    }
+    Mesh out;
+    out.name = name;
+    out.positions = readVec3(viewAccessor(model, pos->second, "POSITION", path));
+    for (glm::vec3& v : out.positions) v = glm::vec3(world * glm::vec4(v, 1.0f));
+    if (const auto nrm = prim.attributes.find("NORMAL"); nrm != prim.attributes.end()) {
+      out.normals = readVec3(viewAccessor(model, nrm->second, "NORMAL", path));
+      const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(world));
+      for (glm::vec3& n : out.normals) n = worldDirection(glm::mat4(normalMatrix), n);
+      if (out.normals.size() != out.positions.size()) out.normals.clear();  // cleanScene recomputes
+    }
+    std::vector<std::uint32_t> idx;
+    if (prim.indices >= 0) {
+      idx = readIndices(viewAccessor(model, prim.indices, "indices", path));
+    } else {
+      idx.resize(out.positions.size());
+      for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
+    }
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      out.indices = std::move(idx);
+    } else {
+      for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_FAN) out.indices.insert(out.indices.end(), {idx[0], idx[i + 1], idx[i + 2]});
+        else if (i % 2 == 0) out.indices.insert(out.indices.end(), {idx[i], idx[i + 1], idx[i + 2]});
+        else out.indices.insert(out.indices.end(), {idx[i + 1], idx[i], idx[i + 2]});  // keep strip winding
+      }
+    }
+    if (prim.material >= 0 && std::size_t(prim.material) < model.materials.size()) {
+      out.baseColor = rgb(model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
+    }
+    scene.meshes.push_back(std::move(out));
+  }
+
+  void addLight(const tinygltf::Node& node, const glm::mat4& world) {
+    const auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end() || !ext->second.IsObject() || !ext->second.Has("light")) return;
+    const tinygltf::Value& ref = ext->second.Get("light");
+    const int index = ref.IsNumber() ? ref.GetNumberAsInt() : -1;
+    if (index < 0 || std::size_t(index) >= model.lights.size()) {
+      scene.warnings.push_back("glTF node '" + node.name + "' refers to missing light " + std::to_string(index) + "; ignored");
+      return;
+    }
+    const tinygltf::Light& src = model.lights[std::size_t(index)];
+    Light light;
+    light.color = rgb(src.color, glm::vec3(1.0f));
+    light.position = glm::vec3(world[3]);
+    light.direction = worldDirection(world, glm::vec3(0.0f, 0.0f, -1.0f));
+    if (src.type == "directional") {
+      light.type = LightType::Directional;
+    } else if (src.type == "spot") {
+      light.type = LightType::Spot;
+      light.spotAngleDeg = float(2.0 * glm::degrees(src.spot.outerConeAngle));
+    } else if (src.type == "point") {
+      light.type = LightType::Point;
+    } else {
+      scene.warnings.push_back("glTF light type '" + src.type + "' is unknown; ignored");
+      return;
+    }
+    scene.lights.push_back(light);
+  }
+
+  void visit(int index, const glm::mat4& parent) {
+    if (index < 0 || std::size_t(index) >= model.nodes.size()) {
+      fail(path, "node " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
+    }
+    if (onPath[std::size_t(index)]) fail(path, "node " + std::to_string(index) + " is its own ancestor", "remove the cycle");
+    if (++visits > 1000000) fail(path, "node hierarchy expands to over a million instances", "flatten the scene");
+    const tinygltf::Node& node = model.nodes[std::size_t(index)];
+    const glm::mat4 world = parent * localTransform(node);
+    if (node.mesh >= 0) {
+      if (std::size_t(node.mesh) >= model.meshes.size()) {
+        fail(path, "node " + std::to_string(index) + " refers to missing mesh " + std::to_string(node.mesh), "re-export it");
+      }
+      const tinygltf::Mesh& mesh = model.meshes[std::size_t(node.mesh)];
+      for (std::size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(mesh, p, world);
+    }
+    if (node.camera >= 0 && std::size_t(node.camera) < model.cameras.size()) {
+      const tinygltf::Camera& cam = model.cameras[std::size_t(node.camera)];
+      if (cam.type == "perspective" && !cameraWorld) {
+        cameraWorld = world;
+        yfov = float(cam.perspective.yfov);
+      } else if (cam.type != "perspective" && !warnedOrtho) {
+        scene.warnings.push_back("glTF camera '" + cam.name + "' is " + cam.type + ", only perspective is used; ignored");
+        warnedOrtho = true;
+      }
+    }
+    addLight(node, world);
+    onPath[std::size_t(index)] = 1;
+    for (int child : node.children) visit(child, world);
+    onPath[std::size_t(index)] = 0;
+  }
+
+  std::vector<int> roots() const {
+    if (!model.scenes.empty()) {
+      const bool validDefault = model.defaultScene >= 0 && std::size_t(model.defaultScene) < model.scenes.size();
+      return model.scenes[validDefault ? std::size_t(model.defaultScene) : 0].nodes;
+    }
+    std::vector<char> isChild(model.nodes.size(), 0);
+    for (const tinygltf::Node& node : model.nodes) {
+      for (int c : node.children) {
+        if (c >= 0 && std::size_t(c) < isChild.size()) isChild[std::size_t(c)] = 1;
+      }
+    }
+    std::vector<int> out;
+    for (std::size_t i = 0; i < isChild.size(); ++i) {
+      if (!isChild[i]) out.push_back(int(i));
+    }
+    return out;
+  }
+
+  void run() {
+    onPath.assign(model.nodes.size(), 0);
+    for (int root : roots()) visit(root, glm::mat4(1.0f));
+    if (!cameraWorld) return;
+    Bounds finite;  // aim distance only: the scene radius, ignoring NaN that cleanScene drops later
+    for (const Mesh& m : scene.meshes) {
+      for (const glm::vec3& p : m.positions) {
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) finite.extend(p);
+      }
+    }
+    const float distance = finite.empty() || !(finite.radius() > 0.0f) ? 1.0f : finite.radius();
+    Camera camera;
+    camera.eye = glm::vec3((*cameraWorld)[3]);
+    camera.target = camera.eye + distance * worldDirection(*cameraWorld, glm::vec3(0.0f, 0.0f, -1.0f));
+    camera.up = worldDirection(*cameraWorld, glm::vec3(0.0f, 1.0f, 0.0f));
+    if (yfov > 0.0f && yfov < glm::pi<float>()) camera.fovYDeg = glm::degrees(yfov);
+    scene.camera = camera;
+  }
+};
+
+}  // namespace
+
+Scene loadGltf(const std::string& path) {
+  const std::vector<unsigned char> bytes = readBytes(path);
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) fail(path, "is larger than 4 GiB", "split the model");
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const bool binary = ext == ".glb" || (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0);
+  std::error_code ec;
+  FsContext ctx;
+  ctx.folder = fs::absolute(path, ec).parent_path().string();
+  ctx.prefix = ctx.folder.empty() || ctx.folder.back() == '/' ? ctx.folder : ctx.folder + "/";
+  checkUris(binary ? validateGlb(bytes, path) : std::string(bytes.begin(), bytes.end()), path, ctx.folder);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &ctx});
+  loader.SetImageLoader(&skipImageDecode, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), ctx.folder)
+                         : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                      unsigned(bytes.size()), ctx.folder);
+  if (!ctx.refused.empty()) {  // also catches image URIs, whose read failures tinygltf only warns about
+    fail(path, "refuses external file " + ctx.refused.front() + ": outside the model's folder",
+         "copy the file into '" + ctx.folder + "' and refer to it relatively, or embed it as a data: URI");
+  }
+  while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+  if (err.size() > 400) err = err.substr(0, 400) + "...";  // tinygltf quotes whole data: URIs
+  if (!ok) fail(path, "could not be parsed: " + (err.empty() ? std::string("unknown tinygltf error") : err),
+                "check that the file and the buffers it names are complete");
+
+  Scene scene;
+  for (std::size_t start = 0; start < warn.size();) {
+    const std::size_t end = std::min(warn.find('\n', start), warn.size());
+    if (end > start) scene.warnings.push_back("glTF: " + warn.substr(start, end - start));
+    start = end + 1;
+  }
+  Converter{model, path, scene}.run();
+  return scene;
+}
+
+}  // namespace penumbra

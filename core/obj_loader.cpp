@@ -1,1 +1,151 @@
-// placeholder: being written
+// Wavefront OBJ loader. tinyobj parses from memory so that it never opens files itself: the
+// material libraries are read here, and only from the OBJ's own folder.
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include <tiny_obj_loader.h>
+
+#include "core/scene_loader.h"
+
+namespace penumbra {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem, const std::string& fix) {
+  throw InputError("OBJ '" + path + "': " + problem + "; " + fix);
+}
+
+bool readText(const std::string& path, std::string& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  out.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return !in.bad();
+}
+
+std::string trimmed(const std::string& s) {
+  const std::size_t b = s.find_first_not_of(" \t\r\n");
+  return b == std::string::npos ? std::string() : s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+// Collects the text of every mtllib the OBJ names that stays inside its folder. Libraries that
+// would leave the folder are ignored with a warning (the geometry is still usable without them).
+std::string materialText(const std::string& objText, const std::string& path, const std::string& folder,
+                         std::vector<std::string>& warnings) {
+  std::string text;
+  std::istringstream lines(objText);
+  for (std::string line; std::getline(lines, line);) {
+    line = trimmed(line);
+    if (line.rfind("mtllib", 0) != 0 || line.size() < 7 || !std::isspace(static_cast<unsigned char>(line[6]))) continue;
+    std::istringstream names(line.substr(7));
+    for (std::string name; names >> name;) {
+      const std::string why = confinedPathProblem(folder, name);
+      if (!why.empty()) {
+        warnings.push_back("OBJ '" + path + "': ignored material library '" + name +
+                           "' outside the OBJ's folder (" + why + "); default colours used");
+        continue;
+      }
+      std::string mtl;
+      if (!readText((fs::path(folder) / name).string(), mtl)) {
+        warnings.push_back("OBJ '" + path + "': material library '" + name + "' not found next to it; default colours used");
+        continue;
+      }
+      text += mtl + "\n";
+    }
+  }
+  return text;
+}
+
+std::string firstLines(const std::string& message) {
+  std::string s = trimmed(message);
+  for (char& c : s) c = c == '\n' ? ' ' : c;
+  return s;
+}
+
+}  // namespace
+
+Scene loadObj(const std::string& path) {
+  std::string objText;
+  if (!readText(path, objText)) fail(path, "cannot be opened", "check the path and the file permissions");
+  std::error_code ec;
+  const std::string folder = fs::absolute(path, ec).parent_path().string();
+
+  Scene scene;
+  const std::string mtlText = materialText(objText, path, folder, scene.warnings);
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;  // ParseFromString ignores mtllib names and reads mtlText instead
+  if (!reader.ParseFromString(objText, mtlText, config)) {
+    fail(path, "could not be parsed: " + firstLines(reader.Error()), "fix the reported line");
+  }
+  // tinyobj only warns about out-of-range indices (or silently drops such quads): refuse them.
+  const std::string warning = reader.Warning();
+  if (warning.find("out of bounds") != std::string::npos || warning.find("invalid vertex index") != std::string::npos) {
+    fail(path, "face index out of range (" + firstLines(warning) + ")", "fix the 'f' lines to use existing vertices");
+  }
+  if (!trimmed(warning).empty()) scene.warnings.push_back("OBJ '" + path + "': " + firstLines(warning));
+
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  const std::vector<tinyobj::material_t>& materials = reader.GetMaterials();
+  const long vertexCount = long(attrib.vertices.size() / 3);
+  const long normalCount = long(attrib.normals.size() / 3);
+  const std::vector<tinyobj::shape_t>& shapes = reader.GetShapes();
+  for (std::size_t s = 0; s < shapes.size(); ++s) {
+    const tinyobj::mesh_t& src = shapes[s].mesh;
+    const std::string shapeName = shapes[s].name.empty() ? "shape" + std::to_string(s) : shapes[s].name;
+    // One Mesh per (shape, material); vertices deduplicated by (position, normal) index pair.
+    struct Part {
+      Mesh mesh;
+      std::unordered_map<std::uint64_t, std::uint32_t> remap;
+      bool allNormals = true;
+    };
+    std::map<int, Part> parts;
+    for (std::size_t i = 0; i < src.indices.size(); ++i) {
+      const tinyobj::index_t& idx = src.indices[i];
+      if (idx.vertex_index < 0 || idx.vertex_index >= vertexCount) {
+        fail(path, "shape '" + shapeName + "' uses vertex " + std::to_string(long(idx.vertex_index) + 1) + " but only " +
+             std::to_string(vertexCount) + " exist", "fix the 'f' lines to use existing vertices");
+      }
+      if (idx.normal_index < -1 || idx.normal_index >= normalCount) {
+        fail(path, "shape '" + shapeName + "' uses normal " + std::to_string(long(idx.normal_index) + 1) + " but only " +
+             std::to_string(normalCount) + " exist", "fix the 'f' lines to use existing normals");
+      }
+      const int material = i / 3 < src.material_ids.size() ? src.material_ids[i / 3] : -1;
+      Part& part = parts[material];
+      const std::uint64_t key = std::uint64_t(std::uint32_t(idx.vertex_index)) << 32 | std::uint32_t(idx.normal_index + 1);
+      auto [it, inserted] = part.remap.try_emplace(key, std::uint32_t(part.mesh.positions.size()));
+      if (inserted) {
+        const float* v = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
+        part.mesh.positions.emplace_back(v[0], v[1], v[2]);
+        if (idx.normal_index >= 0) {
+          const float* n = &attrib.normals[3 * std::size_t(idx.normal_index)];
+          part.mesh.normals.emplace_back(n[0], n[1], n[2]);
+        } else {
+          part.allNormals = false;
+        }
+      }
+      part.mesh.indices.push_back(it->second);
+    }
+    for (auto& [material, part] : parts) {
+      Mesh& mesh = part.mesh;
+      mesh.name = shapeName;
+      if (material >= 0 && std::size_t(material) < materials.size()) {
+        const tinyobj::material_t& m = materials[std::size_t(material)];
+        if (parts.size() > 1) mesh.name += "/" + m.name;
+        mesh.baseColor = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
+      }
+      if (!part.allNormals) mesh.normals.clear();  // cleanScene derives them from the faces
+      scene.meshes.push_back(std::move(mesh));
+    }
+  }
+  return scene;
+}
+
+}  // namespace penumbra

@@ -18,4 +18,9 @@ Scene loadGltf(const std::string& path);
 // Wavefront OBJ through tinyobjloader (materials' diffuse colour as base colour).
 Scene loadObj(const std::string& path);
 
+// Why `reference` (a relative path or URI found inside a model file) would leave `folder`: empty
+// when it stays inside, else the reason. Absolute references, ../ climbs and links that resolve
+// outside are refused. Shared by the glTF and OBJ loaders.
+std::string confinedPathProblem(const std::string& folder, const std::string& reference);
+
 }  // namespace penumbra

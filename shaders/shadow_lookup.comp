@@ -35,10 +35,11 @@ void main() {
   vec3 n = imageLoad(gNormal, pix).xyz;
   if (!lightReaches(frame.light, p, n, frame.light.position.xyz)) { visibility[index] = 0.0; return; }
 
-  ShadowMapInfo info = frame.shadow;
-  uint face = shadowFace(info, p);
-  vec3 offsetP = p + n * (info.normalOffset * shadowTexelWorld(info, p));
-  vec4 clip = info.viewProj[face] * vec4(offsetP, 1.0);
+  uint kind = frame.shadow.kind;
+  uint face = shadowFace(kind, frame.shadow.lightPosition, p);
+  float texel = shadowTexelWorld(kind, frame.shadow.texelWorld, frame.shadow.lightPosition, p);
+  vec3 offsetP = p + n * (frame.shadow.normalOffset * texel);
+  vec4 clip = frame.shadow.viewProj[face] * vec4(offsetP, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   // Outside the map (or beyond its far plane) nothing was rendered that could block.
@@ -46,14 +47,14 @@ void main() {
     visibility[index] = 1.0;
     return;
   }
-  ivec2 t = ivec2(floor(uv * float(info.resolution)));
+  ivec2 t = ivec2(floor(uv * float(frame.shadow.resolution)));
   float lit = 0.0;
   if (frame.shadowFilter == FILTER_NONE) {
     lit = litAt(t, face, ndc.z);
   } else if (frame.shadowFilter == FILTER_POISSON) {
     float angle = 6.2831853 * hashToUnit(pcgHash(index));
     mat2 rot = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
-    vec2 centre = uv * float(info.resolution);
+    vec2 centre = uv * float(frame.shadow.resolution);
     for (int i = 0; i < 16; ++i) lit += litAt(ivec2(floor(centre + 2.5 * (rot * kPoisson[i]))), face, ndc.z);
     lit /= 16.0;
   } else {

@@ -1,1 +1,138 @@
-// placeholder: being written
+// The penumbra command as a user meets it: help for every command, one clear line and a non-zero
+// exit for bad input with no partial output, the promised files, and reproducible views.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exitCode;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("penumbra_cli_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& args) const {
+    const std::string cmd = std::string(PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
+                            (dir_ / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    return {WEXITSTATUS(status), slurp(dir_ / "stdout"), slurp(dir_ / "stderr")};
+  }
+  fs::path dir_;
+};
+
+TEST_F(Cli, HelpForEveryCommand) {
+  for (const auto& [command, option] : {std::pair{"render", "--method"}, std::pair{"compare", "--methods"}}) {
+    const Result r = run(std::string(command) + " --help");
+    EXPECT_EQ(r.exitCode, 0) << command;
+    EXPECT_NE(r.out.find(option), std::string::npos) << command;
+    EXPECT_NE(r.out.find("--scene"), std::string::npos) << command;
+  }
+  EXPECT_EQ(run("--help").exitCode, 0);
+}
+
+TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
+  const std::string out = (dir_ / "out").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"render --method sm --scene /nonexistent/model.glb", "not found"},
+      {"render --method nosuch --scene builtin:square", "unknown method"},
+      {"render --method sm --scene builtin:nosuch", "nosuch"},
+      {"render --method sm --scene builtin:square --res 12by4", "--res"},
+      {"render --method sm --scene builtin:square --light-size 0.1", "rect"},
+      {"render --method sm --scene builtin:square --light spot:1,2", "spot:1,2"},
+      {"render --method sm --scene builtin:square --spp 0", "--spp"},
+      {"render --method sm --scene builtin:square --pcf-kernel 7x7", "--pcf-kernel"},
+      {"render --method sm --scene builtin:square --view /nonexistent/view.json", "view.json"},
+      {"compare --methods , --scene builtin:square", "--methods"},
+      {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "MiB"},
+  };
+  for (const auto& [args, mention] : cases) {
+    const Result r = run(args + " --out " + out);
+    EXPECT_NE(r.exitCode, 0) << args;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ":\n" << r.err;
+    EXPECT_EQ(r.err.rfind("penumbra: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(mention), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args << " left partial output";
+  }
+}
+
+TEST_F(Cli, RenderWritesImagesVisibilityAndStats) {
+  const Result r = run("render --method pcf --scene builtin:square --res 64x48 --shadow-map-res 256 --validate --out " +
+                       (dir_ / "out").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (const char* file : {"pcf.png", "pcf.visibility.exr", "pcf.visibility.png", "pcf.stats.json"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "out" / file)) << file;
+  }
+  int w = 0, h = 0;
+  EXPECT_EQ(penumbra::readExrGray((dir_ / "out" / "pcf.visibility.exr").string(), w, h).size(), 64u * 48u);
+  EXPECT_EQ(w, 64);
+  const auto stats = nlohmann::json::parse(slurp(dir_ / "out" / "pcf.stats.json"));
+  EXPECT_EQ(stats["method"], "pcf");
+  EXPECT_TRUE(stats["tracer"].is_null());
+  EXPECT_TRUE(stats["pip_fraction"].is_null());
+  EXPECT_GT(stats["time_ms"]["total"].get<double>(), 0.0);
+  EXPECT_TRUE(stats["time_ms"].contains("shadow_map"));
+  EXPECT_EQ(stats["context"]["resolution"], nlohmann::json::array({64, 48}));
+}
+
+TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
+  const Result r = run("compare --methods sm,pcf --scene builtin:square --res 64x64 --shadow-map-res 512 --out " +
+                       (dir_ / "out").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto metrics = nlohmann::json::parse(slurp(dir_ / "out" / "metrics.json"));
+  EXPECT_EQ(metrics["reference"]["method"], "ref");
+  EXPECT_EQ(metrics["reference"]["tracer"], "embree");
+  EXPECT_GT(metrics["reference"]["rays_traced"].get<long>(), 0);
+  ASSERT_EQ(metrics["methods"].size(), 2u);
+  for (const auto& m : metrics["methods"]) {
+    const std::string name = m["method"];
+    EXPECT_TRUE(fs::exists(dir_ / "out" / (name + ".heatmap.png"))) << name;
+    EXPECT_TRUE(fs::exists(dir_ / "out" / (name + ".png"))) << name;
+    for (const char* field : {"rmse", "mae", "max", "wrong_pixel_fraction"}) {
+      EXPECT_TRUE(m["error"][field].is_number()) << name << " " << field;
+    }
+    EXPECT_LT(m["error"]["wrong_pixel_fraction"].get<double>(), 0.05) << name;
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "ref.png"));
+}
+
+TEST_F(Cli, SavedViewReproducesTheImageBitForBit) {
+  const std::string view = (dir_ / "view.json").string();
+  const std::string common = " --method sm --scene builtin:courtyard:2 --shadow-map-res 512";
+  ASSERT_EQ(run("render" + common + " --res 80x60 --save-view " + view + " --out " + (dir_ / "a").string()).exitCode, 0);
+  ASSERT_TRUE(fs::exists(view));
+  const Result r = run("render --view " + view + common + " --out " + (dir_ / "b").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  int w = 0, h = 0;
+  const auto a = penumbra::readExrGray((dir_ / "a" / "sm.visibility.exr").string(), w, h);
+  const auto b = penumbra::readExrGray((dir_ / "b" / "sm.visibility.exr").string(), w, h);
+  EXPECT_EQ(w, 80);
+  EXPECT_EQ(a, b);
+}
+
+}  // namespace

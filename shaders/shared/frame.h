@@ -39,9 +39,10 @@ struct FrameData {
 };
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).
-PN_FN uint shadowFace(ShadowMapInfo info, vec3 p) {
-  if (info.kind != SHADOW_CUBE) return 0u;
-  vec3 d = p - vec3(info.lightPosition);
+// Helpers take single fields: copying the whole ShadowMapInfo per invocation is slow on lavapipe.
+PN_FN uint shadowFace(uint kind, vec4 lightPosition, vec3 p) {
+  if (kind != SHADOW_CUBE) return 0u;
+  vec3 d = p - vec3(lightPosition);
   vec3 a = abs(d);
   if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0f ? 0u : 1u;
   if (a.y >= a.z) return d.y >= 0.0f ? 2u : 3u;
@@ -49,9 +50,9 @@ PN_FN uint shadowFace(ShadowMapInfo info, vec3 p) {
 }
 
 // World size of one shadow-map texel at p.
-PN_FN float shadowTexelWorld(ShadowMapInfo info, vec3 p) {
-  if (info.kind == SHADOW_ORTHO) return info.texelWorld;
-  return info.texelWorld * length(p - vec3(info.lightPosition));
+PN_FN float shadowTexelWorld(uint kind, float texelWorld, vec4 lightPosition, vec3 p) {
+  if (kind == SHADOW_ORTHO) return texelWorld;
+  return texelWorld * length(p - vec3(lightPosition));
 }
 
 PN_END
