@@ -108,6 +108,7 @@ TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
   EXPECT_EQ(metrics["reference"]["method"], "ref");
   EXPECT_EQ(metrics["reference"]["tracer"], "embree");
   EXPECT_GT(metrics["reference"]["rays_traced"].get<long>(), 0);
+  EXPECT_GT(metrics["reference"]["setup_ms"]["embree_build"].get<double>(), 0.0) << "build time survives the warm-up frame";
   ASSERT_EQ(metrics["methods"].size(), 2u);
   for (const auto& m : metrics["methods"]) {
     const std::string name = m["method"];

@@ -78,6 +78,38 @@ TEST(SceneAccuracy, CubeMapShadowsAcrossFaces) {
   expectValidationSilent();
 }
 
+TEST(SceneAccuracy, SpotLightMatchesReferenceAndDarkOutsideItsCone) {
+  RenderSettings settings = smallSettings(128, 1024);
+  SceneRun run("builtin:courtyard:2", settings);
+  const Bounds bounds = run.scene.bounds();
+  run.light = Light{.type = LightType::Spot,
+                    .position = bounds.center() + glm::vec3(0.3f, 1.2f, 0.2f) * bounds.radius(),
+                    .direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.2f)),
+                    .spotAngleDeg = 50.0f};
+  ASSERT_EQ(raster::makeShadowMapInfo(toGpuLight(run.light, bounds), bounds, settings.shadowMap).kind, SHADOW_PERSPECTIVE);
+  const Frame reference = run.render("ref");
+  const Frame sm = run.render("sm");
+  EXPECT_LE(compareVisibility(sm.visibility, reference.visibility, reference.covered, kWrongThresholdHard).wrongPixelFraction,
+            0.01);
+  // Outside the cone both say 0; inside, both see lit ground.
+  std::size_t outside = 0, litInside = 0;
+  const auto positions = run.renderer->gbuffer().positions();
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (!reference.covered[i]) continue;
+    const glm::vec3 toPoint = glm::normalize(glm::vec3(positions[i]) - run.light.position);
+    if (glm::dot(toPoint, run.light.direction) < std::cos(glm::radians(25.0f)) - 1e-3f) {
+      ++outside;
+      EXPECT_EQ(reference.visibility[i], 0.0f);
+      EXPECT_EQ(sm.visibility[i], 0.0f);
+    } else {
+      litInside += reference.visibility[i] > 0.5f;
+    }
+  }
+  EXPECT_GT(outside, 100u);
+  EXPECT_GT(litInside, 100u);
+  expectValidationSilent();
+}
+
 TEST(SceneAccuracy, AreaLightReferenceIsSoftAndDeterministic) {
   RenderSettings settings = smallSettings(96, 512);
   settings.spp = 16;
