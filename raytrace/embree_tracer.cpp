@@ -236,8 +236,7 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
         ray.dir_z = d.z;
         ray.tnear = 0.0f;
         // Stop just short of the light point so geometry at the light itself does not count.
-        ray.tfar = directional ? std::numeric_limits<float>::infinity()
-                               : glm::distance(origin, q) * (1.0f - 1e-4f);
+        ray.tfar = shared::shadowRayEnd(glm::distance(origin, q), directional, sp.rayMax);
         ray.mask = ~0u;
         rtcOccluded1(scene, &context, &ray);
         ++rays;

@@ -1,0 +1,37 @@
+// Tracers answer shadow rays for a dense list of shading points that lives in GPU buffers (host
+// visible, so CPU tracers read the same list). GPU tracers record an indirect dispatch driven by
+// the count the compaction wrote; CPU tracers do their work after the submission completed.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "gpu/resources.h"
+
+namespace penumbra {
+
+struct TraceJob {
+  const gpu::Buffer& points;      // shared::ShadingPoint[capacity]; the first `count` are valid
+  const gpu::Buffer& count;       // shared::TraceCount (count + indirect dispatch size)
+  const gpu::Buffer& frame;       // shared::FrameData (the light)
+  const gpu::Buffer& visibility;  // float per pixel; the tracer writes visibility[point.pixel]
+};
+
+struct TraceReport {
+  std::uint64_t rays = 0;                      // shadow rays actually traced
+  std::optional<std::uint64_t> nodeVisits;     // traversal steps, where the tracer counts them
+  std::optional<std::uint64_t> triangleTests;
+  double hostMs = 0.0;                         // CPU time spent in finish()
+};
+
+class ShadowTracer {
+ public:
+  virtual ~ShadowTracer() = default;
+  virtual std::string name() const = 0;  // "bvh", "embree", ...
+  // GPU tracers record their trace here (before the submission); CPU tracers record nothing.
+  virtual void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) = 0;
+  // After the submission completed: CPU tracers trace here; every tracer reports its counters.
+  virtual TraceReport finish(const TraceJob& job) = 0;
+};
+
+}  // namespace penumbra

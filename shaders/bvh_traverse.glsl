@@ -1,0 +1,1 @@
+// placeholder: being written (included by bvh_*.comp)

@@ -1,0 +1,3 @@
+#version 450
+// placeholder: being written
+void main() {}
