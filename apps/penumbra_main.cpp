@@ -1,6 +1,7 @@
 // penumbra: command-line front end. `render` runs one method, `compare` runs the Embree reference
 // and several methods and measures each against it. Every input is checked before any output is
 // written; errors print one line on stderr and exit with a non-zero code.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -25,7 +26,12 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
 
   auto measured = [&](const std::string& method) {
     for (std::uint32_t i = 0; i < config.warmup; ++i) renderer.render(method, setup.camera, setup.light);
-    return renderer.render(method, setup.camera, setup.light);
+    std::vector<Frame> runs;
+    for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(renderer.render(method, setup.camera, setup.light));
+    std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
+    Frame median = std::move(runs[runs.size() / 2]);
+    median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
+    return median;
   };
   std::vector<Frame> frames;
   if (compare) frames.push_back(measured("ref"));
@@ -38,6 +44,10 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   if (compare) {
     for (std::size_t i = 1; i < frames.size(); ++i) {
       frames[i].stats.error = compareVisibility(frames[i].visibility, frames[0].visibility, frames[0].covered, threshold);
+      if (!frames[i].pip.empty()) {
+        frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, frames[0].visibility,
+                                                       frames[0].covered, frames[i].pip, threshold);
+      }
     }
   }
 
@@ -53,6 +63,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
       metrics["methods"].push_back(frames[i].stats.toJson());
     }
     writeJson(config.outDir + "/metrics.json", metrics);
+    if (!config.csv.empty()) appendCsv(config.csv, frames, context_json);
   }
   printSummary(frames, std::cout);
   std::cout << "wrote " << config.outDir << "/\n";
@@ -84,6 +95,7 @@ int main(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "Render the Embree reference and each method; write heatmaps and metrics.json");
   std::string methodList = "sm,pcf";
   compare->add_option("--methods", methodList, "Comma-separated methods to compare with ref")->capture_default_str();
+  compare->add_option("--csv", config.csv, "Append one row per method (with machine, driver and device) to this CSV file");
   compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp)");
   addRunOptions(*compare, config);
 

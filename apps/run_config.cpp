@@ -1,6 +1,9 @@
 #include "apps/run_config.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <thread>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
@@ -68,10 +71,21 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
+  app.add_option("--tracer", c.tracer, "Ray tracer of srt and frt: bvh (GPU compute) or embree (CPU)")
+      ->capture_default_str()->check(CLI::IsMember({"bvh", "embree"}));
+  app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
+  app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
+  app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
+  app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
+  app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
+  app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
   app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--warmup", c.warmup, "Frames rendered and discarded before the measured one (shader JIT, caches)")
       ->capture_default_str()->check(CLI::Range(0u, 100u));
+  app.add_option("--repeat", c.repeat, "Measured frames per method; the median frame is reported with min/max")
+      ->capture_default_str()->check(CLI::Range(1u, 1000u));
   app.add_flag("--validate", c.validate, "Enable Vulkan validation layers; any message makes the run fail");
   app.add_option("--out", c.outDir, "Output folder")->capture_default_str();
 }
@@ -88,7 +102,13 @@ std::vector<std::string> splitList(const std::string& list) {
 
 RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
   for (const std::string& m : methods) makeMethod(m);  // unknown names fail before any work
-  for (float v : {c.lightSize, c.depthBias, c.slopeBias, c.normalOffset, c.rayEpsilon}) requireFinite(v, "numeric options");
+  for (float v : {c.lightSize, c.depthBias, c.slopeBias, c.normalOffset, c.rayEpsilon, c.pipDelta, c.pipMargin, c.thinWidth,
+                  c.thinAspect}) {
+    requireFinite(v, "numeric options");
+  }
+  if (c.pipDelta < 0.0f || c.pipMargin < 0.0f || c.thinWidth < 0.0f || c.thinAspect < 0.0f) {
+    throw InputError("--pip-delta, --pip-margin, --thin-width and --thin-aspect must be >= 0");
+  }
   if (c.rayEpsilon < 0.0f || c.normalOffset < 0.0f) throw InputError("--ray-epsilon and --normal-offset must be >= 0");
 
   RunSetup s;
@@ -124,6 +144,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.rayEpsilon = c.rayEpsilon;
+  s.settings.tracer = c.tracer;
+  s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on"};
+  s.settings.thin.maxWidthTexels = c.thinWidth;
+  s.settings.thin.minAspect = c.thinAspect;
 
   const std::uint64_t need = estimateBytes(s.settings, s.scene), have = physicalMemoryBytes();
   if (need > have / 2) {
@@ -147,18 +171,50 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"shadow_map_res", s.settings.shadowMap.resolution},
           {"pcf_kernel", c.pcfKernel},
           {"warmup_frames", c.warmup},
+          {"tracer", c.tracer},
+          {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
+                   {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}}},
           {"warnings", s.scene.warnings},
           {"device", context.deviceName()},
           {"driver", context.driverInfo()}};
 }
 
+void appendCsv(const std::string& path, const std::vector<Frame>& frames, const nlohmann::json& context) {
+  const bool fresh = !std::filesystem::exists(path);
+  std::ofstream out(path, std::ios::app);
+  if (fresh) {
+    out << "scene,triangles,width,height,spp,method,tracer,total_ms,total_min_ms,total_max_ms,runs,pip_fraction,rays_traced,"
+           "node_visits_per_ray,wrong_pixel_fraction,rmse,pip_miss_fraction,passes,cpu_threads,device,driver\n";
+  }
+  auto opt = [](const auto& v) { return v ? std::to_string(*v) : std::string(); };
+  for (const Frame& f : frames) {
+    const FrameStats& s = f.stats;
+    std::string passes;
+    for (const auto& [pass, ms] : s.passMs) passes += (passes.empty() ? "" : ";") + pass + "=" + std::to_string(ms);
+    out << context["scene"].get<std::string>() << "," << context["triangles"] << "," << f.width << "," << f.height << ","
+        << s.samplesPerPixel << "," << s.method << "," << s.tracer.value_or("") << "," << s.totalMs << ","
+        << (s.totalSpreadMs ? s.totalSpreadMs->minMs : s.totalMs) << "," << (s.totalSpreadMs ? s.totalSpreadMs->maxMs : s.totalMs)
+        << "," << (s.totalSpreadMs ? s.totalSpreadMs->runs : 1) << "," << opt(s.pipFraction) << "," << opt(s.raysTraced) << ","
+        << (s.nodeVisits && s.raysTraced && *s.raysTraced ? std::to_string(double(*s.nodeVisits) / double(*s.raysTraced)) : "")
+        << "," << (s.error ? std::to_string(s.error->wrongPixelFraction) : "") << ","
+        << (s.error ? std::to_string(s.error->rmse) : "") << "," << opt(s.pipMissFraction) << "," << passes << ","
+        << std::thread::hardware_concurrency() << ",\"" << context["device"].get<std::string>() << "\",\""
+        << context["driver"].get<std::string>() << "\"\n";
+  }
+  if (!out) throw std::runtime_error("cannot append to '" + path + "'");
+}
+
 void printSummary(const std::vector<Frame>& frames, std::ostream& out) {
-  out << std::left << std::setw(8) << "method" << std::right << std::setw(11) << "total ms" << std::setw(12) << "rays"
+  out << std::left << std::setw(8) << "method" << std::right << std::setw(11) << "total ms" << std::setw(8) << "pip %"
+      << std::setw(12) << "rays"
       << std::setw(11) << "wrong %" << std::setw(10) << "rmse" << "   passes (ms)\n";
   for (const Frame& f : frames) {
     const FrameStats& s = f.stats;
     out << std::left << std::setw(8) << s.method << std::right << std::fixed << std::setprecision(1) << std::setw(11)
-        << s.totalMs << std::setw(12) << (s.raysTraced ? std::to_string(*s.raysTraced) : "-");
+        << s.totalMs << std::setw(8);
+    if (s.pipFraction) out << std::setprecision(2) << 100.0 * *s.pipFraction;
+    else out << "-";
+    out << std::setw(12) << (s.raysTraced ? std::to_string(*s.raysTraced) : "-");
     if (s.error) {
       out << std::setw(11) << std::setprecision(3) << 100.0 * s.error->wrongPixelFraction << std::setw(10)
           << std::setprecision(4) << s.error->rmse;

@@ -24,7 +24,14 @@ struct RunConfig {
   std::uint32_t shadowMapRes = 2048;
   std::string pcfKernel = "3x3";
   float depthBias = 1.0f, slopeBias = 1.5f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
-  std::uint32_t warmup = 1;  // frames rendered and discarded before the measured one
+  std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
+  std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
+  std::string csv;           // compare: append one row per method to this CSV file
+  std::string tracer = "bvh";
+  float pipDelta = 0.002f, pipMargin = 1.0f;
+  bool noThin = false;
+  float thinWidth = 1.0f, thinAspect = 4.0f;
+  std::string rayIntervals = "off";
   bool validate = false;
   std::string outDir = "out";
 };
@@ -44,5 +51,7 @@ RunSetup prepareRun(const RunConfig& config, const std::vector<std::string>& met
 nlohmann::json describeRun(const RunConfig& config, const RunSetup& setup, const gpu::Context& context);
 void printSummary(const std::vector<Frame>& frames, std::ostream& out);
 std::vector<std::string> splitList(const std::string& list);
+// One row per frame: scene, method, tracer, times (median, min, max), PIP, rays, steps, error, machine.
+void appendCsv(const std::string& path, const std::vector<Frame>& frames, const nlohmann::json& context);
 
 }  // namespace penumbra

@@ -73,4 +73,18 @@ std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<co
   return rgba;
 }
 
+double missFraction(std::span<const float> approx, std::span<const float> reference, std::span<const std::uint8_t> covered,
+                    std::span<const std::uint8_t> marked, float threshold) {
+  if (approx.size() != reference.size() || covered.size() != reference.size() || marked.size() != reference.size()) {
+    throw std::invalid_argument("missFraction: buffers differ in size");
+  }
+  std::uint64_t wrong = 0, missed = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    if (!covered[i] || !(std::abs(approx[i] - reference[i]) > threshold)) continue;
+    ++wrong;
+    missed += marked[i] == 0;
+  }
+  return wrong ? double(missed) / double(wrong) : 0.0;
+}
+
 }  // namespace penumbra

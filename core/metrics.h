@@ -22,6 +22,11 @@ inline constexpr float kWrongThresholdSoft = 0.05f;
 ErrorMetrics compareVisibility(std::span<const float> test, std::span<const float> reference,
                                std::span<const std::uint8_t> covered, float wrongThreshold);
 
+// Of the covered pixels where `approx` is wrong (|approx - ref| > threshold), the fraction that is
+// not `marked` (0 when approx is never wrong). For PIP classification: marked = traced.
+double missFraction(std::span<const float> approx, std::span<const float> reference, std::span<const std::uint8_t> covered,
+                    std::span<const std::uint8_t> marked, float threshold);
+
 // RGBA8 heatmap of |test - ref|: black (0) -> red -> yellow -> white (>= fullScale);
 // uncovered pixels dark blue-grey.
 std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<const float> reference,

@@ -3,6 +3,14 @@
 namespace penumbra::gpu {
 namespace {
 
+// Every stage the pipeline runs sees the push constants and the descriptor set.
+vk::ShaderStageFlags graphicsStages(const GraphicsPipelineDesc& desc) {
+  vk::ShaderStageFlags stages = vk::ShaderStageFlagBits::eVertex;
+  if (!desc.geometrySpirv.empty()) stages |= vk::ShaderStageFlagBits::eGeometry;
+  if (!desc.fragmentSpirv.empty()) stages |= vk::ShaderStageFlagBits::eFragment;
+  return stages;
+}
+
 vk::raii::ShaderModule shaderModule(const Context& context, std::span<const std::uint32_t> spirv) {
   return vk::raii::ShaderModule(context.device(), {.codeSize = spirv.size_bytes(), .pCode = spirv.data()});
 }
@@ -71,14 +79,16 @@ void ComputePipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors
 }
 
 GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc)
-    : layout_(context, desc.bindings,
-              desc.fragmentSpirv.empty() ? vk::ShaderStageFlags(vk::ShaderStageFlagBits::eVertex)
-                                         : vk::ShaderStageFlagBits::eVertex | vk::ShaderStageFlagBits::eFragment,
-              desc.pushConstantBytes) {
+    : layout_(context, desc.bindings, graphicsStages(desc), desc.pushConstantBytes) {
   const auto vertexModule = shaderModule(context, desc.vertexSpirv);
+  std::optional<vk::raii::ShaderModule> geometryModule;
   std::optional<vk::raii::ShaderModule> fragmentModule;
   std::vector<vk::PipelineShaderStageCreateInfo> stages{
       {.stage = vk::ShaderStageFlagBits::eVertex, .module = *vertexModule, .pName = "main"}};
+  if (!desc.geometrySpirv.empty()) {
+    geometryModule.emplace(shaderModule(context, desc.geometrySpirv));
+    stages.push_back({.stage = vk::ShaderStageFlagBits::eGeometry, .module = **geometryModule, .pName = "main"});
+  }
   if (!desc.fragmentSpirv.empty()) {
     fragmentModule.emplace(shaderModule(context, desc.fragmentSpirv));
     stages.push_back({.stage = vk::ShaderStageFlagBits::eFragment, .module = **fragmentModule, .pName = "main"});

@@ -64,6 +64,7 @@ class ComputePipeline {
 struct GraphicsPipelineDesc {
   std::span<const std::uint32_t> vertexSpirv;
   std::span<const std::uint32_t> fragmentSpirv;  // empty: depth-only
+  std::span<const std::uint32_t> geometrySpirv;  // empty: no geometry stage (needs the geometryShader feature)
   std::vector<vk::VertexInputBindingDescription> vertexBindings;
   std::vector<vk::VertexInputAttributeDescription> vertexAttributes;
   std::vector<vk::Format> colorFormats;

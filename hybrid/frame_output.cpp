@@ -20,6 +20,16 @@ void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json
   writePngRgba8(base + ".png", w, h, frame.rgba);
   writeExrGray(base + ".visibility.exr", w, h, frame.visibility);
   writePngGray16(base + ".visibility.png", w, h, frame.visibility);
+  if (!frame.pip.empty()) {  // the pixels handed to the tracer, in red over the image (paper Fig. 4)
+    std::vector<std::uint8_t> overlay = frame.rgba;
+    for (std::size_t i = 0; i < frame.pip.size(); ++i) {
+      if (!frame.pip[i]) continue;
+      overlay[4 * i + 0] = std::uint8_t(0.35f * overlay[4 * i + 0] + 0.65f * 255.0f);
+      overlay[4 * i + 1] = std::uint8_t(0.35f * overlay[4 * i + 1]);
+      overlay[4 * i + 2] = std::uint8_t(0.35f * overlay[4 * i + 2]);
+    }
+    writePngRgba8(base + ".pip.png", w, h, overlay);
+  }
   nlohmann::json stats = frame.stats.toJson();
   stats["context"] = context;
   writeJson(base + ".stats.json", stats);

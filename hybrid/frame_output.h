@@ -9,7 +9,8 @@
 namespace penumbra {
 
 // dir/<method>.png, dir/<method>.visibility.exr (lossless float), dir/<method>.visibility.png
-// (16-bit grey, for viewers) and dir/<method>.stats.json (stats + `context`).
+// (16-bit grey, for viewers), dir/<method>.stats.json (stats + `context`) and, for methods that
+// classify, dir/<method>.pip.png (traced pixels in red).
 void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json& context);
 
 // dir/<method>.heatmap.png: |frame - reference| over covered pixels, white at fullScale.

@@ -19,14 +19,23 @@ struct FrameStats {
   std::optional<std::string> tracer;    // which ray tracer answered rays, if any
   std::optional<double> pipFraction;    // fraction of covered pixels classified for tracing
   std::optional<std::uint64_t> raysTraced;
+  std::optional<std::uint64_t> pipPixels;       // pixels handed to the tracer
+  std::optional<double> pipMissFraction;        // of the pixels sm gets wrong, those not traced (when compared)
+  std::optional<std::uint64_t> nodeVisits;      // traversal steps, where the tracer counts them
+  std::optional<std::uint64_t> triangleTests;
   std::uint32_t samplesPerPixel = 1;    // light samples per traced pixel (1 for point-like lights)
   double totalMs = 0.0;                 // wall time of the frame, setup excluded
+  struct Spread {
+    double minMs = 0.0, maxMs = 0.0;
+    std::uint32_t runs = 1;
+  };
+  std::optional<Spread> totalSpreadMs;  // over repeated frames, when repeated
   std::vector<std::pair<std::string, double>> passMs;  // per pass: GPU timestamps, CPU wall time
   std::map<std::string, std::uint64_t> memoryBytes;    // per structure
   std::map<std::string, double> setupMs;               // one-time work (e.g. acceleration build)
   std::optional<ErrorMetrics> error;                   // vs the reference, when compared
 
-  void addPass(const std::string& pass, double ms) { passMs.emplace_back(pass, ms); }
+  void addPass(const std::string& pass, double ms);  // adds to an existing pass of that name
   nlohmann::json toJson() const;
 };
 

@@ -23,6 +23,8 @@ class Method {
   // What the shared frame data must say for this method.
   virtual std::uint32_t shadowFilter(const RenderSettings&) const { return 0; }  // FILTER_NONE
   virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;
+  // Methods that run PIP classification expose its flags and sm answer in the Frame.
+  virtual bool classifies() const { return false; }
 };
 
 std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names
@@ -31,5 +33,6 @@ std::vector<std::string> methodNames();
 // Factories, one per method file.
 std::unique_ptr<Method> makeShadowMapMethod(bool filtered);  // sm (filtered = false), pcf (true)
 std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
+std::unique_ptr<Method> makeTracedMethod(bool selective);   // srt (selective = true), frt
 
 }  // namespace penumbra

@@ -13,6 +13,8 @@ const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry(
       {"sm", [] { return makeShadowMapMethod(false); }},
       {"pcf", [] { return makeShadowMapMethod(true); }},
       {"ref", [] { return makeReferenceMethod(); }},
+      {"srt", [] { return makeTracedMethod(true); }},
+      {"frt", [] { return makeTracedMethod(false); }},
   };
   return methods;
 }

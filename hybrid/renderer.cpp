@@ -25,15 +25,70 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
       gbuffer_(context, settings.width, settings.height),
       lookup_(context),
       shade_(context),
+      classify_(context),
+      compact_(context, settings.width, settings.height),
       frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
-      visibility_(context, pixels(settings) * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer, "visibility"),
+      visibility_(context, pixels(settings) * sizeof(float),
+                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "visibility"),
       color_(context, pixels(settings) * 4, vk::BufferUsageFlagBits::eStorageBuffer, "shaded colour"),
+      smVisibility_(context, pixels(settings) * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer, "sm visibility"),
+      traceFlags_(context, pixels(settings) * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "trace flags"),
+      rayMax_(context, pixels(settings) * sizeof(float),
+              vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
       timer_(context) {}
 
 const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
   stats.setupMs["embree_build"] = embree_->buildMs();  // one-time, reported with every frame that uses it
   return *embree_;
+}
+
+ShadowTracer& Renderer::tracer(FrameStats& stats) {
+  if (settings_.tracer == "embree") return const_cast<EmbreeTracer&>(embree(stats));
+  if (settings_.tracer != "bvh") throw InputError("unknown tracer '" + settings_.tracer + "'; use bvh or embree");
+  if (!bvh_) bvh_ = std::make_unique<BvhTracer>(context_, scene_);
+  stats.setupMs["bvh_build"] = bvh_->stats().buildMs;
+  stats.memoryBytes["bvh"] = bvh_->stats().bytes;
+  return *bvh_;
+}
+
+TraceJob Renderer::traceJob() const {
+  return {compact_.points(), compact_.count(), frameBuffer_, visibility_};
+}
+
+void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+  const bool thin = settings_.pip.thinPass;
+  if (thin) {
+    if (!thin_ || thin_->faceCount() != frameData_.shadow.faceCount) {
+      thin_ = std::make_unique<raster::ThinTrianglePass>(context_, settings_.shadowMap, frameData_.shadow.faceCount,
+                                                         settings_.thin);
+    }
+    stats.memoryBytes["thin_mask"] = thin_->depth().bytes();
+    timer_.begin(cmd, "thin_pass");
+    thin_->record(cmd, geometry_, frameData_.shadow);
+    timer_.end(cmd);
+  }
+  const auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
+  timer_.begin(cmd, "classify");
+  classify_.record(cmd, gbuffer_, *shadowMap_, thin ? &thin_->depth() : nullptr, thin ? thin_->sampler() : vk::Sampler{},
+                   frameBuffer_, {visibility_, smVisibility_, traceFlags_, rayMax_}, push);
+  timer_.end(cmd);
+}
+
+void Renderer::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode) {
+  timer_.begin(cmd, "compact");
+  compact_.record(cmd, gbuffer_, traceFlags_, rayMax_, frameBuffer_, mode);
+  timer_.end(cmd);
+}
+
+void Renderer::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
+  cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);  // 1.0f
+  cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);               // rays go all the way to the light
+  const vk::MemoryBarrier2 barrier{.srcStageMask = vk::PipelineStageFlagBits2::eClear,
+                                   .srcAccessMask = vk::AccessFlagBits2::eTransferWrite,
+                                   .dstStageMask = vk::PipelineStageFlagBits2::eComputeShader,
+                                   .dstAccessMask = vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
 }
 
 void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp) {
@@ -95,9 +150,20 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
   frame.visibility = visibility_.download<float>(positions.size());
   frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
+  if (stats.pipPixels) {
+    std::uint64_t covered = 0;
+    for (std::uint8_t c : frame.covered) covered += c;
+    stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;
+  }
+  if (method->classifies()) {
+    const auto flags = traceFlags_.download<std::uint32_t>(positions.size());
+    frame.pip.assign(flags.begin(), flags.end());
+    frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
+  }
 
   stats.memoryBytes["scene_geometry"] = geometry_.bytes();
   stats.memoryBytes["gbuffer"] = gbuffer_.bytes();
+  if (stats.pipPixels) stats.memoryBytes["ray_list"] = compact_.bytes();
   return frame;
 }
 

@@ -10,11 +10,15 @@
 #include "core/camera.h"
 #include "core/scene.h"
 #include "gpu/timer.h"
+#include "hybrid/compact_pass.h"
 #include "hybrid/frame_stats.h"
 #include "hybrid/shade_pass.h"
 #include "raster/gbuffer_pass.h"
+#include "raster/pip_classify_pass.h"
 #include "raster/shadow_lookup_pass.h"
 #include "raster/shadow_map_pass.h"
+#include "raster/thin_triangle_pass.h"
+#include "raytrace/bvh_tracer.h"
 #include "raytrace/embree_tracer.h"
 #include "shared/frame.h"
 
@@ -28,6 +32,9 @@ struct RenderSettings {
   raster::ShadowMapSettings shadowMap;
   std::uint32_t pcfFilter = FILTER_PCF3;  // kernel of `pcf`: FILTER_PCF3, FILTER_PCF5, FILTER_POISSON
   float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
+  std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU) or "embree" (CPU)
+  raster::PipSettings pip;
+  raster::ThinTriangleSettings thin;
 };
 
 // One rendered frame, read back to the host.
@@ -36,6 +43,8 @@ struct Frame {
   std::vector<float> visibility;      // width*height, row 0 at the top
   std::vector<std::uint8_t> covered;  // 1 where geometry covers the pixel
   std::vector<std::uint8_t> rgba;     // shaded sRGB image, width*height*4
+  std::vector<std::uint8_t> pip;      // methods that classify: PIP_* flags per pixel (0 = not traced)
+  std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
   FrameStats stats;
 };
 
@@ -60,11 +69,19 @@ class Renderer {
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
   const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
+  ShadowTracer& tracer(FrameStats& stats);         // settings().tracer, built on first use
+  TraceJob traceJob() const;                       // the compacted points and where results go
 
   // Records the camera pass with its timer scope (every method starts with it).
   void recordGBuffer(const vk::raii::CommandBuffer& cmd);
   // Records the light pass with its timer scope (making the map for this light if needed).
   void recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
+  // Thin-triangle mask (when settings().pip.thinPass), then PIP classification, with timer scopes.
+  void recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
+  // Dense list of the pixels to trace: flagged ones (COMPACT_FLAGGED) or all covered ones.
+  void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
+  // For methods that trace without classifying: visibility 1 everywhere, no ray intervals.
+  void recordUnclassified(const vk::raii::CommandBuffer& cmd);
 
  private:
   void prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp);
@@ -77,9 +94,14 @@ class Renderer {
   raster::GBufferPass gbuffer_;
   raster::ShadowLookupPass lookup_;
   ShadePass shade_;
+  raster::PipClassifyPass classify_;
+  CompactPass compact_;
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
+  std::unique_ptr<raster::ThinTrianglePass> thin_;
   std::unique_ptr<EmbreeTracer> embree_;
+  std::unique_ptr<BvhTracer> bvh_;
   gpu::Buffer frameBuffer_, visibility_, color_;
+  gpu::Buffer smVisibility_, traceFlags_, rayMax_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};
   ViewMatrices view_;

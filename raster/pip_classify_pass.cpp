@@ -1,1 +1,53 @@
-// placeholder: being written
+#include "raster/pip_classify_pass.h"
+
+#include <algorithm>
+
+#include "pip_classify_comp.h"
+
+namespace penumbra::raster {
+namespace {
+
+constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},         {1, vk::DescriptorType::eStorageImage},
+                                      {2, vk::DescriptorType::eCombinedImageSampler}, {3, vk::DescriptorType::eCombinedImageSampler},
+                                      {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
+                                      {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
+                                      {8, vk::DescriptorType::eStorageBuffer}};
+
+}  // namespace
+
+PipClassifyPass::PipClassifyPass(const gpu::Context& context)
+    : pipeline_(context, pip_classify_comp, kBindings, sizeof(shared::PipPush), "pip classify pipeline") {}
+
+shared::PipPush PipClassifyPass::pushFor(const PipSettings& settings, const shared::ShadowMapInfo& info, bool thinMaskBound,
+                                         float sceneRadius) {
+  shared::PipPush push{};
+  push.deltaThreshold = settings.deltaFraction * (info.farPlane - info.nearPlane);
+  // A texel's world size at the scene's far side bounds the depth error of one texel.
+  const float texel = info.kind == SHADOW_ORTHO ? info.texelWorld : info.texelWorld * info.farPlane;
+  push.depthMargin = settings.marginTexels * std::min(texel, sceneRadius);
+  push.useThin = thinMaskBound ? 1u : 0u;
+  push.useIntervals = settings.rayIntervals ? 1u : 0u;
+  return push;
+}
+
+void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
+                             const gpu::Image* thinMask, vk::Sampler thinSampler, const gpu::Buffer& frame,
+                             const PipBuffers& out, const shared::PipPush& push) const {
+  // Without a thin mask the binding still needs an image: the shadow map stands in, unread.
+  const vk::ImageView thinView = thinMask ? thinMask->view() : shadowMap.depth().view();
+  pipeline_.bind(cmd, gpu::Descriptors{}
+                          .storageImage(0, gbuffer.position().view())
+                          .storageImage(1, gbuffer.normal().view())
+                          .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
+                          .sampledImage(3, thinView, thinMask ? thinSampler : shadowMap.sampler())
+                          .buffer(4, frame)
+                          .buffer(5, out.visibility)
+                          .buffer(6, out.smVisibility)
+                          .buffer(7, out.traceFlags)
+                          .buffer(8, out.rayMax));
+  pipeline_.pushConstants(cmd, push);
+  cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
+  gpu::computeToComputeAndHost(cmd);
+}
+
+}  // namespace penumbra::raster

@@ -39,7 +39,9 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   if (light.type == LIGHT_DIRECTIONAL) {
     const glm::vec3 dir = glm::normalize(glm::vec3(light.direction));
     const glm::vec3 eye = centre - dir * (2.0f * radius);
-    glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, radius * 0.5f, radius * 3.5f);
+    info.nearPlane = radius * 0.5f;
+    info.farPlane = radius * 3.5f;
+    glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, info.nearPlane, info.farPlane);
     proj[1][1] *= -1.0f;
     info.kind = SHADOW_ORTHO;
     info.viewProj[0] = proj * glm::lookAt(eye, centre, upFor(dir));
@@ -62,9 +64,10 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
     }
   }
   if (2.0f * halfFov < kMaxSingleFaceFov) {
-    const float nearPlane = std::max(distance - radius, farPlane * 1e-4f);
+    info.nearPlane = std::max(distance - radius, farPlane * 1e-4f);
+    info.farPlane = farPlane;
     info.kind = SHADOW_PERSPECTIVE;
-    info.viewProj[0] = perspectiveVk(2.0f * halfFov, nearPlane, farPlane) * glm::lookAt(pos, pos + forward, upFor(forward));
+    info.viewProj[0] = perspectiveVk(2.0f * halfFov, info.nearPlane, info.farPlane) * glm::lookAt(pos, pos + forward, upFor(forward));
     info.texelWorld = 2.0f * std::tan(halfFov) / res;
     return info;
   }
@@ -72,7 +75,9 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   // Cube: faces +X,-X,+Y,-Y,+Z,-Z in the order shadowFace() returns them.
   const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   const float farCube = distance + radius;
-  const glm::mat4 proj = perspectiveVk(glm::radians(90.0f), farCube * 1e-4f, farCube);
+  info.nearPlane = farCube * 1e-4f;
+  info.farPlane = farCube;
+  const glm::mat4 proj = perspectiveVk(glm::radians(90.0f), info.nearPlane, info.farPlane);
   info.kind = SHADOW_CUBE;
   info.faceCount = 6;
   for (int f = 0; f < 6; ++f) info.viewProj[f] = proj * glm::lookAt(pos, pos + axes[f], upFor(axes[f]));

@@ -1,1 +1,182 @@
-// placeholder: being written
+#include "raytrace/bvh_tracer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "bvh_rays_comp.h"
+#include "bvh_trace_comp.h"
+#include "shared/trace.h"
+
+namespace penumbra {
+namespace {
+
+using Stage = vk::PipelineStageFlagBits2;
+using Access = vk::AccessFlagBits2;
+
+constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
+                                           {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
+                                           {BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+                                           {3, vk::DescriptorType::eStorageBuffer},
+                                           {4, vk::DescriptorType::eStorageBuffer},
+                                           {5, vk::DescriptorType::eStorageBuffer},
+                                           {6, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
+                                          {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
+                                          {BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+                                          {3, vk::DescriptorType::eStorageBuffer},
+                                          {4, vk::DescriptorType::eStorageBuffer}};
+
+constexpr std::size_t kRaysPerSubmit = std::size_t(1) << 20;  // traceRays staging: 32 MiB in, 16 MiB out
+constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_t);
+
+std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+
+std::uint64_t storageLimit(const gpu::Context& context) {
+  return context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+}
+
+// Checks what can be known before building (the triangle buffer, the larger of the two), builds,
+// then checks the node buffer.
+Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
+  const std::uint64_t limit = storageLimit(context);
+  const std::uint64_t triangles = scene.triangleCount();
+  auto tooLarge = [&](const char* what, std::uint64_t bytes) {
+    return InputError("BVH: scene '" + scene.name + "' (" + std::to_string(triangles) + " triangles) needs " +
+                      mebibytes(bytes) + " of " + what + ", but " + context.deviceName() + " binds at most " +
+                      mebibytes(limit) + " per storage buffer (maxStorageBufferRange); use a smaller scene or level");
+  };
+  if (BvhBuilder::triangleBytes(triangles) > limit)
+    throw tooLarge("BVH triangles", BvhBuilder::triangleBytes(triangles));
+  Bvh bvh = BvhBuilder(settings).build(scene);
+  const std::uint64_t nodeBytes = bvh.nodes.size() * sizeof(shared::BvhNode);
+  if (nodeBytes > limit) throw tooLarge("BVH nodes", nodeBytes);
+  return bvh;
+}
+
+void requireSubgroupArithmetic(const gpu::Context& context) {
+  const auto chain =
+      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
+  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
+    throw std::runtime_error("BvhTracer: " + context.deviceName() +
+                             " lacks subgroup arithmetic in compute shaders, which the BVH kernels' counters use");
+  }
+}
+
+void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
+                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess) {
+  const vk::MemoryBarrier2 barrier{
+      .srcStageMask = srcStage, .srcAccessMask = srcAccess, .dstStageMask = dstStage, .dstAccessMask = dstAccess};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
+}
+
+// Zeroes the counters on the GPU: earlier dispatches in the same command buffer may still add to them.
+void recordCounterReset(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& counters) {
+  cmd.fillBuffer(counters.handle(), 0, VK_WHOLE_SIZE, 0u);
+  memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                Access::eShaderStorageRead | Access::eShaderStorageWrite);
+}
+
+}  // namespace
+
+BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings)
+    : BvhTracer(context, buildChecked(context, scene, settings)) {}
+
+BvhTracer::BvhTracer(const gpu::Context& context, Bvh bvh)
+    : context_(context),
+      stats_(bvh.stats),
+      nodes_(context, bvh.nodes.size() * sizeof(shared::BvhNode), vk::BufferUsageFlagBits::eStorageBuffer, "bvh nodes"),
+      triangles_(context, bvh.triangles.size() * sizeof(shared::BvhTriangle), vk::BufferUsageFlagBits::eStorageBuffer,
+                 "bvh triangles"),
+      counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                "bvh counters"),
+      tracePipeline_(context, bvh_trace_comp, kTraceBindings, 0, "bvh trace pipeline"),
+      raysPipeline_(context, bvh_rays_comp, kRaysBindings, sizeof(shared::BvhRaysPush), "bvh rays pipeline") {
+  requireSubgroupArithmetic(context);
+  nodes_.upload(std::span<const shared::BvhNode>(bvh.nodes));
+  triangles_.upload(std::span<const shared::BvhTriangle>(bvh.triangles));
+  std::memset(counters_.data(), 0, kCounterBytes);
+}
+
+void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
+  // The compaction's compute writes (points, count) feed this dispatch, its indirect arguments
+  // included; earlier compute work may still use the counters and the visibility buffer.
+  memoryBarrier(
+      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
+      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
+      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
+  recordCounterReset(cmd, counters_);
+  tracePipeline_.bind(cmd, gpu::Descriptors{}
+                               .buffer(BVH_BINDING_NODES, nodes_)
+                               .buffer(BVH_BINDING_TRIANGLES, triangles_)
+                               .buffer(BVH_BINDING_COUNTERS, counters_)
+                               .buffer(3, job.points)
+                               .buffer(4, job.count)
+                               .buffer(5, job.frame)
+                               .buffer(6, job.visibility));
+  cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
+  gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
+}
+
+TraceReport BvhTracer::finish(const TraceJob&) {
+  const auto start = std::chrono::steady_clock::now();
+  TraceReport report = readCounters();
+  report.hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+TraceReport BvhTracer::readCounters() const {
+  const auto words = counters_.download<std::uint32_t>(BVH_COUNTER_WORDS);
+  auto value = [&](std::uint32_t low) { return std::uint64_t(words[low]) | (std::uint64_t(words[low + 1]) << 32); };
+  TraceReport report;
+  report.rays = value(BVH_COUNTER_RAYS);
+  report.nodeVisits = value(BVH_COUNTER_NODE_VISITS);
+  report.triangleTests = value(BVH_COUNTER_TRIANGLE_TESTS);
+  return report;
+}
+
+std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuery> rays, bool anyHit) {
+  std::vector<shared::RayHit> out(rays.size());
+  std::memset(counters_.data(), 0, kCounterBytes);  // no GPU work is in flight between submissions
+  const std::size_t batchCapacity = std::min(rays.size(), kRaysPerSubmit);
+  if (batchCapacity > 0 && (!queries_ || queries_->size() < batchCapacity * sizeof(shared::RayQuery))) {
+    queries_.emplace(context_, batchCapacity * sizeof(shared::RayQuery), vk::BufferUsageFlagBits::eStorageBuffer,
+                     "bvh ray queries");
+    hits_.emplace(context_, batchCapacity * sizeof(shared::RayHit), vk::BufferUsageFlagBits::eStorageBuffer,
+                  "bvh ray hits");
+  }
+  const std::uint32_t maxGroups =
+      std::min(context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0], 65535u);
+  for (std::size_t begin = 0; begin < rays.size(); begin += kRaysPerSubmit) {
+    const auto batch = rays.subspan(begin, std::min(kRaysPerSubmit, rays.size() - begin));
+    queries_->upload(batch);
+    context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      raysPipeline_.bind(cmd, gpu::Descriptors{}
+                                  .buffer(BVH_BINDING_NODES, nodes_)
+                                  .buffer(BVH_BINDING_TRIANGLES, triangles_)
+                                  .buffer(BVH_BINDING_COUNTERS, counters_)
+                                  .buffer(3, *queries_)
+                                  .buffer(4, *hits_));
+      // Dispatches write disjoint ranges, so they need no barriers between them.
+      const std::size_t perDispatch = std::size_t(maxGroups) * BVH_GROUP_SIZE;
+      for (std::size_t first = 0; first < batch.size(); first += perDispatch) {
+        const auto count = std::uint32_t(std::min(perDispatch, batch.size() - first));
+        raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{std::uint32_t(first), count, anyHit ? 1u : 0u, 0u});
+        cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
+      }
+      gpu::computeToComputeAndHost(cmd);
+    });
+    const auto hits = hits_->download<shared::RayHit>(batch.size());
+    std::copy(hits.begin(), hits.end(), out.begin() + std::ptrdiff_t(begin));
+  }
+  raysReport_ = readCounters();
+  return out;
+}
+
+}  // namespace penumbra

@@ -12,6 +12,9 @@
 
 #include <embree3/rtcore.h>
 
+#include "shared/frame.h"
+#include "shared/trace.h"
+
 namespace penumbra {
 namespace {
 
@@ -249,6 +252,24 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
   });
   impl_->check("shadow tracing");
   return totalRays.load();
+}
+
+}  // namespace penumbra
+
+namespace penumbra {
+
+TraceReport EmbreeTracer::finish(const TraceJob& job) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto count = job.count.download<shared::TraceCount>(1).front();
+  const std::span<const shared::ShadingPoint> points(static_cast<const shared::ShadingPoint*>(job.points.data()), count.count);
+  const auto& frame = *static_cast<const shared::FrameData*>(job.frame.data());
+  std::vector<float> traced(points.size());
+  TraceReport report;
+  report.rays = traceShadows(points, frame.light, traced);
+  auto* visibility = static_cast<float*>(job.visibility.data());
+  for (std::size_t i = 0; i < points.size(); ++i) visibility[points[i].pixel] = traced[i];
+  report.hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
 }
 
 }  // namespace penumbra

@@ -9,6 +9,7 @@
 
 #include "core/camera.h"
 #include "core/scene.h"
+#include "raytrace/shadow_tracer.h"
 #include "shared/light.h"
 #include "shared/shading_point.h"
 
@@ -21,10 +22,11 @@ struct PrimaryHit {
   std::uint32_t mesh = 0;
 };
 
-class EmbreeTracer {
+// Also a ShadowTracer: it reads the same host-visible point list the GPU tracers read.
+class EmbreeTracer final : public ShadowTracer {
  public:
   explicit EmbreeTracer(const Scene& scene);  // builds a high-quality BVH; throws on device errors
-  ~EmbreeTracer();
+  ~EmbreeTracer() override;
   EmbreeTracer(const EmbreeTracer&) = delete;
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
@@ -39,6 +41,10 @@ class EmbreeTracer {
   // Shadow rays start at position + normal * light.rayEpsilon. Returns the number of rays traced.
   std::uint64_t traceShadows(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
                              std::span<float> visibility) const;
+
+  std::string name() const override { return "embree"; }
+  void record(const vk::raii::CommandBuffer&, const TraceJob&) override {}
+  TraceReport finish(const TraceJob& job) override;  // traces job.points on all cores
 
  private:
   struct Impl;

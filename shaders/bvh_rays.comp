@@ -1,4 +1,23 @@
 #version 450
-// placeholder: being written
-layout(local_size_x = 1) in;
-void main() {}
+// Arbitrary rays against the BVH (BvhTracer::traceRays): RayQuery in, RayHit out, any-hit or
+// closest-hit by push constant. Counts traversal steps like the shadow kernel.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "bvh_traverse.glsl"
+layout(local_size_x = BVH_GROUP_SIZE) in;
+layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };
+layout(std430, binding = 4) writeonly buffer Hits { RayHit hits[]; };
+layout(push_constant) uniform Push { BvhRaysPush push; };
+
+void main() {
+  uint rays = 0u;
+  if (gl_GlobalInvocationID.x < push.count) {
+    uint index = push.first + gl_GlobalInvocationID.x;
+    RayQuery q = queries[index];
+    hits[index] = push.anyHit != 0u ? bvhTraverse(q.origin, q.direction, q.tMin, q.tMax, true)
+                                    : bvhClosestHit(q.origin, q.direction, q.tMin, q.tMax);
+    rays = 1u;
+  }
+  bvhAddCounters(rays);
+}

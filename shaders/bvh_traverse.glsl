@@ -1,1 +1,180 @@
-// placeholder: being written (included by bvh_*.comp)
+// BVH traversal, included by bvh_trace.comp and bvh_rays.comp (not compiled on its own).
+// Declares the node, triangle and counter buffers at BVH_BINDING_*; includers enable
+// GL_KHR_shader_subgroup_basic and _arithmetic (for bvhAddCounters).
+// Each visit fetches one 64-byte node and slab-tests both child boxes; leaves are tested at once,
+// inner children are entered nearer first with the farther one on a short per-invocation stack.
+// The triangle test is Embree's robust one (origin-shifted Pluecker edge tests), so rays that
+// hit a shared edge or vertex find a triangle here exactly when they do in the reference.
+#include "shared/bvh.h"
+
+layout(std430, binding = BVH_BINDING_NODES) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
+layout(std430, binding = BVH_BINDING_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
+layout(std430, binding = BVH_BINDING_COUNTERS) buffer BvhCounters { uint bvhCounters[BVH_COUNTER_WORDS]; };
+
+// Statistics of the calling invocation, added to by every traversal (reset by the caller).
+uint bvhNodeVisits = 0u;
+uint bvhTriangleTests = 0u;
+
+// The computed slab distances may be off by a few ulps; widening the exit distance keeps the box
+// test conservative (a box the ray touches is never culled), as in pbrt's robust slab test.
+const float kBvhExitScale = 1.0f + 1.0e-6f;
+
+// Whether the ray meets box [lo, hi] within [tMin, tMax]; `enter` gets its entry distance.
+bool bvhSlab(vec3 lo, vec3 hi, vec3 origin, vec3 invDir, float tMin, float tMax, out float enter) {
+  vec3 t0 = (lo - origin) * invDir;
+  vec3 t1 = (hi - origin) * invDir;
+  vec3 tNear = min(t0, t1);
+  vec3 tFar = max(t0, t1);
+  enter = max(max(tNear.x, tNear.y), max(tNear.z, tMin));
+  float exit = min(min(tFar.x, tFar.y), min(tFar.z, tMax)) * kBvhExitScale;
+  return enter <= exit;
+}
+
+// Embree evaluates its robust test with fused multiply-adds on CPUs that have them (every x86 CPU
+// with AVX2); doing the same, operation for operation, makes the edge decisions agree with the
+// reference bit for bit there, even for grazing rays where any rounding difference would flip
+// them. `precise` keeps the compiler from fusing or reordering anything else.
+vec3 bvhCross(vec3 a, vec3 b) {
+  precise vec3 r = vec3(fma(a.y, b.z, -(a.z * b.y)), fma(a.z, b.x, -(a.x * b.z)), fma(a.x, b.y, -(a.y * b.x)));
+  return r;
+}
+
+float bvhDot(vec3 a, vec3 b) {
+  precise float r = fma(a.x, b.x, fma(a.y, b.y, a.z * b.z));
+  return r;
+}
+
+// Each coordinate of the normal from whichever of two cross products loses less to cancellation
+// (the one whose subtracted product is smaller), as Embree's robust mode computes it.
+vec3 bvhStableNormal(vec3 a, vec3 b, vec3 c) {
+  precise vec3 abTerm = vec3(a.z * b.y, a.x * b.z, a.y * b.x);
+  precise vec3 bcTerm = vec3(b.z * c.y, b.x * c.z, b.y * c.x);
+  precise vec3 ab = vec3(fma(a.y, b.z, -abTerm.x), fma(a.z, b.x, -abTerm.y), fma(a.x, b.y, -abTerm.z));
+  precise vec3 bc = vec3(fma(b.y, c.z, -bcTerm.x), fma(b.z, c.x, -bcTerm.y), fma(b.x, c.y, -bcTerm.z));
+  return mix(bc, ab, lessThan(abs(abTerm), abs(bcTerm)));
+}
+
+// Ray distance to triangle `tri` if the ray hits it within [tMin, tMax], else a negative value.
+float bvhTriangleHit(BvhTriangle tri, vec3 origin, vec3 dir, float tMin, float tMax) {
+  precise vec3 v0 = tri.v0 - origin;
+  precise vec3 v1 = tri.v1 - origin;
+  precise vec3 v2 = tri.v2 - origin;
+  precise vec3 e0 = v2 - v0;
+  precise vec3 e1 = v0 - v1;
+  precise vec3 e2 = v1 - v2;
+  // Edge functions: each uses only its edge's two vertices, so neighbours agree on shared edges.
+  precise float u = bvhDot(bvhCross(e0, v2 + v0), dir);
+  precise float v = bvhDot(bvhCross(e1, v0 + v1), dir);
+  precise float w = bvhDot(bvhCross(e2, v1 + v2), dir);
+  precise float eps = 1.1920929e-7f * abs(u + v + w);  // float epsilon relative to the sum, as Embree
+  if (!(min(u, min(v, w)) >= -eps || max(u, max(v, w)) <= eps)) return -1.0f;
+  precise vec3 n = bvhStableNormal(e0, e1, e2);
+  precise float den = 2.0f * bvhDot(n, dir);
+  if (den == 0.0f) return -1.0f;  // the ray lies in the triangle's plane
+  precise float t = (2.0f * bvhDot(v0, n)) / den;
+  return (t >= tMin && t <= tMax) ? t : -1.0f;
+}
+
+// Robust reciprocal direction: zero components become tiny ones so that slab distances stay
+// finite (0 * inf would give NaN, whose min/max is undefined).
+vec3 bvhInverseDirection(vec3 dir) {
+  const float tiny = 1.0e-20f;
+  vec3 safe = mix(dir, mix(vec3(tiny), vec3(-tiny), lessThan(dir, vec3(0.0f))), lessThan(abs(dir), vec3(tiny)));
+  return 1.0f / safe;
+}
+
+// Tests the `count` triangles of a leaf from `first`; a hit shortens tMax (closest hit) and is
+// kept in `hit`. Returns whether it found one.
+bool bvhLeaf(uint first, uint count, vec3 origin, vec3 dir, float tMin, inout float tMax, inout RayHit hit,
+             bool anyHit) {
+  bool found = false;
+  for (uint i = first; i < first + count; ++i) {
+    ++bvhTriangleTests;
+    BvhTriangle tri = bvhTriangles[i];
+    float t = bvhTriangleHit(tri, origin, dir, tMin, tMax);
+    if (t < 0.0f) continue;
+    hit = RayHit(t, tri.id, 0u, 0u);
+    found = true;
+    if (anyHit) break;
+    tMax = t;  // only nearer hits matter from now on
+  }
+  return found;
+}
+
+// Traversal shared by both queries; anyHit is a constant at every call site, so the compiler
+// specialises the loop. Returns the hit (t < 0 and BVH_NO_HIT on a miss). The two child slots are
+// handled without loops or indexed locals, which GPUs would otherwise spill to memory.
+RayHit bvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
+  RayHit hit = RayHit(-1.0f, BVH_NO_HIT, 0u, 0u);
+  vec3 invDir = bvhInverseDirection(dir);
+  uint stack[BVH_STACK_SIZE];
+  uint depth = 0u;
+  uint node = 0u;
+  for (;;) {
+    ++bvhNodeVisits;
+    BvhNode n = bvhNodes[node];
+    float enter0, enter1;
+    bool go0 = bvhSlab(n.child[0].lo, n.child[0].hi, origin, invDir, tMin, tMax, enter0);
+    bool go1 = bvhSlab(n.child[1].lo, n.child[1].hi, origin, invDir, tMin, tMax, enter1);
+    // Leaves are tested at once; only inner children go on.
+    if (go0 && n.child[0].count > 0u) {
+      if (bvhLeaf(n.child[0].index, n.child[0].count, origin, dir, tMin, tMax, hit, anyHit) && anyHit) return hit;
+      go0 = false;
+    }
+    if (go1 && n.child[1].count > 0u) {
+      if (bvhLeaf(n.child[1].index, n.child[1].count, origin, dir, tMin, tMax, hit, anyHit) && anyHit) return hit;
+      go1 = false;
+    }
+    go1 = go1 && n.child[1].index != 0u;  // inner index 0 (the root) marks an empty slot
+    if (!anyHit) {
+      // A leaf hit may have shortened the ray to before an inner child's entry.
+      float limit = tMax * kBvhExitScale;
+      go0 = go0 && enter0 <= limit;
+      go1 = go1 && enter1 <= limit;
+    }
+    if (go0 && go1) {
+      bool firstNearer = enter0 <= enter1;
+      stack[depth++] = firstNearer ? n.child[1].index : n.child[0].index;
+      node = firstNearer ? n.child[0].index : n.child[1].index;
+    } else if (go0 || go1) {
+      node = go0 ? n.child[0].index : n.child[1].index;
+    } else {
+      if (depth == 0u) break;
+      node = stack[--depth];
+    }
+  }
+  return hit;
+}
+
+// Whether anything lies on the ray within [tMin, tMax]; stops at the first hit found.
+bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax) {
+  return bvhTraverse(origin, dir, tMin, tMax, true).triangle != BVH_NO_HIT;
+}
+
+// The nearest hit within [tMin, tMax].
+RayHit bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax) {
+  return bvhTraverse(origin, dir, tMin, tMax, false);
+}
+
+// Adds to a 64-bit counter kept as (low, high) words: the low word's atomic returns its old value,
+// and exactly the add that wraps it carries one into the high word.
+void bvhAddCounter(uint word, uint value) {
+  if (value == 0u) return;
+  uint old = atomicAdd(bvhCounters[word], value);
+  if (old > 0xffffffffu - value) atomicAdd(bvhCounters[word + 1u], 1u);
+}
+
+// Adds this invocation's rays and traversal counts to the counters, one atomic per subgroup and
+// counter. Call it from every invocation that has not returned (inactive ones just drop out).
+// Per-invocation counts stay far below 2^32 (at most spp rays of a few thousand steps each), and
+// so do their subgroup sums; only the running totals need the carry.
+void bvhAddCounters(uint rays) {
+  uint subgroupRays = subgroupAdd(rays);
+  uint subgroupVisits = subgroupAdd(bvhNodeVisits);
+  uint subgroupTests = subgroupAdd(bvhTriangleTests);
+  if (subgroupElect()) {
+    bvhAddCounter(BVH_COUNTER_RAYS, subgroupRays);
+    bvhAddCounter(BVH_COUNTER_NODE_VISITS, subgroupVisits);
+    bvhAddCounter(BVH_COUNTER_TRIANGLE_TESTS, subgroupTests);
+  }
+}

@@ -1,4 +1,123 @@
 #version 450
-// placeholder: being written
-layout(local_size_x = 1) in;
-void main() {}
+// PIP classification (Lauterbach et al. 2009, 3.1) fused with the plain shadow-map answer.
+// Per covered pixel: the shadow-map visibility (as method sm), and whether it may be wrong:
+//  - a depth edge in the 3x3 texel neighbourhood (max |s - s'| > threshold) that the receiver's
+//    depth interval [d-hat, d] within one texel can reach: d-hat = d sin(b) / sin(a + b) for a
+//    texel of angle a (perspective), d - w cot(b) for a texel of width w (orthographic), with
+//    sin(b) = n.L;
+//  - a thin triangle, rasterized conservatively, covering the neighbourhood in front of it;
+//  - a neighbourhood that leaves its cube face (seams are classified conservatively).
+// For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
+// light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/frame.h"
+#include "shared/pip.h"
+layout(local_size_x = PIP_GROUP_SIZE, local_size_y = PIP_GROUP_SIZE) in;
+layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
+layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
+layout(binding = 2) uniform sampler2DArray shadowMap;
+layout(binding = 3) uniform sampler2DArray thinMask;
+layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
+layout(std430, binding = 7) writeonly buffer TraceFlags { uint traceFlags[]; };
+layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
+layout(push_constant) uniform PushBlock { PipPush push; };
+
+float linearDepth(float z) {
+  return linearShadowDepth(frame.shadow.kind, frame.shadow.nearPlane, frame.shadow.farPlane, z);
+}
+
+// Depth along the face axis, from clip coordinates (affine in world space for both projections).
+float axisDepth(vec4 clip) {
+  return frame.shadow.kind == SHADOW_ORTHO ? linearDepth(clip.z) : clip.w;
+}
+float axisDepthRate(vec4 clipDir) {
+  return frame.shadow.kind == SHADOW_ORTHO ? clipDir.z * (frame.shadow.farPlane - frame.shadow.nearPlane) : clipDir.w;
+}
+
+void write(uint index, float vis, uint flags, float maxDistance) {
+  visibility[index] = vis;
+  smVisibility[index] = vis;
+  traceFlags[index] = flags;
+  rayMax[index] = maxDistance;
+}
+
+void main() {
+  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+  if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
+  uint index = uint(pix.y) * frame.width + uint(pix.x);
+  vec4 position = imageLoad(gPosition, pix);
+  if (position.w == 0.0) { write(index, 1.0, 0u, 0.0); return; }
+  vec3 p = position.xyz;
+  vec3 n = imageLoad(gNormal, pix).xyz;
+  GpuLight light = frame.light;
+  if (!lightReaches(light, p, n, light.position.xyz)) { write(index, 0.0, 0u, 0.0); return; }
+
+  uint kind = frame.shadow.kind;
+  uint face = shadowFace(kind, frame.shadow.lightPosition, p);
+  float texel = shadowTexelWorld(kind, frame.shadow.texelWorld, frame.shadow.lightPosition, p);
+  vec3 offsetP = p + n * (frame.shadow.normalOffset * texel);
+  mat4 viewProj = frame.shadow.viewProj[face];
+  vec4 clip = viewProj * vec4(offsetP, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
+    write(index, 1.0, PIP_OUTSIDE, 0.0);
+    return;
+  }
+  int res = int(frame.shadow.resolution);
+  ivec2 t = ivec2(floor(uv * float(res)));
+  float raw = texelFetch(shadowMap, ivec3(clamp(t, ivec2(0), ivec2(res - 1)), int(face)), 0).r;
+  float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
+
+  // 3x3 neighbourhood: depth spread around s, minimum depth, thin coverage in front.
+  float s = linearDepth(raw);
+  float delta = 0.0;
+  float zMin = s;
+  float zMax = s;
+  uint flags = 0u;
+  for (int y = -1; y <= 1; ++y) {
+    for (int x = -1; x <= 1; ++x) {
+      ivec2 q = t + ivec2(x, y);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(res)))) {
+        if (kind == SHADOW_CUBE) flags |= PIP_SEAM;
+        continue;
+      }
+      float sq = linearDepth(texelFetch(shadowMap, ivec3(q, int(face)), 0).r);
+      delta = max(delta, abs(sq - s));
+      zMin = min(zMin, sq);
+      zMax = max(zMax, sq);
+      if (push.useThin != 0u) {
+        float thin = texelFetch(thinMask, ivec3(q, int(face)), 0).r;
+        if (thin < ndc.z) flags |= PIP_THIN;
+        zMin = min(zMin, linearDepth(thin));
+      }
+    }
+  }
+
+  float d = linearDepth(ndc.z);
+  if (delta > push.deltaThreshold) {
+    vec3 l = directionToLight(light, p, light.position.xyz);
+    float sinB = clamp(dot(n, l), 1e-4, 1.0);
+    float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
+    float dHat = kind == SHADOW_ORTHO ? d - texel * cosB / sinB
+                                      : d * sinB / sin(min(frame.shadow.texelWorld + asin(sinB), 3.14159265));
+    float lo = min(dHat, d) - push.depthMargin;
+    float hi = d + push.depthMargin;
+    bool overlaps = hi >= s - delta && lo <= s + delta;
+    bool straddles = dHat < s && d > s;
+    if (overlaps || straddles) flags |= PIP_EDGE;
+  }
+
+  float maxDistance = 0.0;
+  if (flags != 0u && push.useIntervals != 0u && !isAreaLight(light)) {
+    vec3 origin = p + n * light.rayEpsilon;
+    vec3 dir = directionToLight(light, origin, light.position.xyz);
+    float limit = zMin - (zMax - zMin) - 2.0 * texel;
+    float rate = axisDepthRate(viewProj * vec4(dir, 0.0));  // < 0: towards the light
+    float start = axisDepth(viewProj * vec4(origin, 1.0));
+    if (rate < 0.0) maxDistance = max((limit - start) / rate, 2.0 * light.rayEpsilon);
+  }
+  write(index, vis, flags, maxDistance);
+}

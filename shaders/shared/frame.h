@@ -24,7 +24,9 @@ struct ShadowMapInfo {
   uint resolution;     // texels per side of each face
   float texelWorld;    // ortho: world size of one texel; perspective/cube: size at unit distance
   float normalOffset;  // receiver offset along its normal, in texels
-  float pad0, pad1, pad2;
+  float nearPlane;     // of every face: NDC depth 0 ..
+  float farPlane;      // .. NDC depth 1 (linear for ortho, perspective otherwise)
+  float pad0;
 };
 
 // std430.
@@ -47,6 +49,12 @@ PN_FN uint shadowFace(uint kind, vec4 lightPosition, vec3 p) {
   if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0f ? 0u : 1u;
   if (a.y >= a.z) return d.y >= 0.0f ? 2u : 3u;
   return d.z >= 0.0f ? 4u : 5u;
+}
+
+// Distance along the face's axis from the light (ortho: from the near plane's eye) of NDC depth z.
+PN_FN float linearShadowDepth(uint kind, float nearPlane, float farPlane, float z) {
+  if (kind == SHADOW_ORTHO) return nearPlane + z * (farPlane - nearPlane);
+  return nearPlane * farPlane / (farPlane - z * (farPlane - nearPlane));
 }
 
 // World size of one shadow-map texel at p.

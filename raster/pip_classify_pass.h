@@ -1,0 +1,43 @@
+// PIP classification fused with the shadow-map lookup (see shaders/pip_classify.comp): writes the
+// sm answer for every pixel, which pixels may be wrong (trace flags, PIP_* bits) and, for hard
+// shadows, how far their shadow rays need to go.
+#pragma once
+#include "gpu/pipeline.h"
+#include "raster/gbuffer_pass.h"
+#include "raster/shadow_map_pass.h"
+#include "shared/pip.h"
+
+namespace penumbra::raster {
+
+struct PipSettings {
+  float deltaFraction = 0.002f;   // depth-edge threshold as a fraction of the light's depth range
+  float marginTexels = 1.0f;      // receiver depth interval widened by this many texel sizes
+  bool thinPass = true;           // use the thin-triangle mask
+  bool rayIntervals = false;      // bound hard-shadow rays by the neighbourhood's blocker depth
+};
+
+// Per-pixel outputs the classification writes and compaction reads.
+struct PipBuffers {
+  const gpu::Buffer& visibility;    // float: sm answer (tracers overwrite PIP pixels later)
+  const gpu::Buffer& smVisibility;  // float: sm answer, kept for pip_miss_fraction
+  const gpu::Buffer& traceFlags;    // uint: PIP_* bits, 0 = keep the sm answer
+  const gpu::Buffer& rayMax;        // float: shadow-ray interval end, 0 = to the light
+};
+
+class PipClassifyPass {
+ public:
+  explicit PipClassifyPass(const gpu::Context& context);
+  // thinMask: the thin-triangle depth mask, or nullptr when the thin pass is off.
+  void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
+              const gpu::Image* thinMask, vk::Sampler thinSampler, const gpu::Buffer& frame, const PipBuffers& out,
+              const shared::PipPush& push) const;
+
+  // The push constants for `settings` on this frame's shadow map.
+  static shared::PipPush pushFor(const PipSettings& settings, const shared::ShadowMapInfo& info, bool thinMaskBound,
+                                 float sceneRadius);
+
+ private:
+  gpu::ComputePipeline pipeline_;
+};
+
+}  // namespace penumbra::raster

@@ -1,0 +1,24 @@
+// PIP classification (raster/pip_classify_pass): settings and the per-pixel outputs' meaning.
+#ifndef PENUMBRA_SHARED_PIP_H
+#define PENUMBRA_SHARED_PIP_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+#define PIP_GROUP_SIZE 8  // 8x8 pixels per workgroup
+
+// Why a pixel was marked (bits of traceFlags; nonzero = trace it).
+#define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
+#define PIP_THIN 2u       // a conservatively rasterized thin triangle covers the neighbourhood in front
+#define PIP_SEAM 4u       // the neighbourhood leaves its cube face: classified conservatively
+#define PIP_OUTSIDE 8u    // outside the shadow map: nothing to classify with
+
+struct PipPush {  // 32 bytes
+  float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
+  float depthMargin;     // widens the receiver's depth interval [d-hat, d] on both sides (world units)
+  uint useThin;          // test the thin-triangle mask
+  uint useIntervals;     // write ray intervals (hard shadows only)
+  uint pad0, pad1, pad2, pad3;
+};
+
+PN_END
+#endif
