@@ -40,14 +40,17 @@ struct LeafNode : BuildNode {
 
 // Shared with the callbacks, which run on Embree's worker threads and must not throw.
 struct BuildContext {
-  std::atomic<bool> failed{false};  // a callback met something it cannot store
+  std::atomic<bool> failed{false};           // a callback met something it cannot store
+  std::atomic<std::uint64_t> innerNodes{0};  // to size the flattened node array up front
 };
 
 void* createNode(RTCThreadLocalAllocator alloc, unsigned childCount, void* user) {
   void* memory = rtcThreadLocalAlloc(alloc, sizeof(InnerNode), alignof(InnerNode));
   if (!memory) return nullptr;
   InnerNode* node = std::construct_at(static_cast<InnerNode*>(memory));
-  if (childCount > 2) static_cast<BuildContext*>(user)->failed = true;
+  auto* context = static_cast<BuildContext*>(user);
+  if (childCount > 2) context->failed = true;
+  context->innerNodes.fetch_add(1, std::memory_order_relaxed);
   node->childCount = std::min(childCount, 2u);
   return node;
 }
@@ -266,7 +269,7 @@ Bvh BvhBuilder::build(const Scene& scene) const {
   }
 
   Bvh bvh;
-  bvh.nodes.reserve(total / std::max(settings_.maxLeafSize / 2, 1u) + 1);
+  bvh.nodes.reserve(std::max<std::uint64_t>(context.innerNodes, 1));
   bvh.triangles.reserve(total);
   // About 8 ulps of the largest coordinate: above the rounding of the slab and edge tests for
   // origins inside the scene, far below any feature size (1e-6 of the scene's extent).

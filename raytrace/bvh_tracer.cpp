@@ -39,9 +39,22 @@ std::uint64_t storageLimit(const gpu::Context& context) {
   return context.physicalDevice().getProperties().limits.maxStorageBufferRange;
 }
 
-// Checks what can be known before building (the triangle buffer, the larger of the two), builds,
-// then checks the node buffer.
+void requireSubgroupArithmetic(const gpu::Context& context) {
+  const auto chain =
+      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
+  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
+    throw std::runtime_error("BvhTracer: " + context.deviceName() +
+                             " lacks subgroup arithmetic in compute shaders, which the BVH kernels' counters use");
+  }
+}
+
+// Checks what can be known before building (the device, and the triangle buffer, the larger of
+// the two buffers), builds, then checks the node buffer.
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
+  requireSubgroupArithmetic(context);
   const std::uint64_t limit = storageLimit(context);
   const std::uint64_t triangles = scene.triangleCount();
   auto tooLarge = [&](const char* what, std::uint64_t bytes) {
@@ -55,18 +68,6 @@ Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuild
   const std::uint64_t nodeBytes = bvh.nodes.size() * sizeof(shared::BvhNode);
   if (nodeBytes > limit) throw tooLarge("BVH nodes", nodeBytes);
   return bvh;
-}
-
-void requireSubgroupArithmetic(const gpu::Context& context) {
-  const auto chain =
-      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
-  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
-  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
-    throw std::runtime_error("BvhTracer: " + context.deviceName() +
-                             " lacks subgroup arithmetic in compute shaders, which the BVH kernels' counters use");
-  }
 }
 
 void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
@@ -96,9 +97,9 @@ BvhTracer::BvhTracer(const gpu::Context& context, Bvh bvh)
                  "bvh triangles"),
       counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
                 "bvh counters"),
+      raysCounters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer, "bvh ray counters"),
       tracePipeline_(context, bvh_trace_comp, kTraceBindings, 0, "bvh trace pipeline"),
       raysPipeline_(context, bvh_rays_comp, kRaysBindings, sizeof(shared::BvhRaysPush), "bvh rays pipeline") {
-  requireSubgroupArithmetic(context);
   nodes_.upload(std::span<const shared::BvhNode>(bvh.nodes));
   triangles_.upload(std::span<const shared::BvhTriangle>(bvh.triangles));
   std::memset(counters_.data(), 0, kCounterBytes);
@@ -126,13 +127,13 @@ void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) 
 
 TraceReport BvhTracer::finish(const TraceJob&) {
   const auto start = std::chrono::steady_clock::now();
-  TraceReport report = readCounters();
+  TraceReport report = readCounters(counters_);
   report.hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 
-TraceReport BvhTracer::readCounters() const {
-  const auto words = counters_.download<std::uint32_t>(BVH_COUNTER_WORDS);
+TraceReport BvhTracer::readCounters(const gpu::Buffer& counters) {
+  const auto words = counters.download<std::uint32_t>(BVH_COUNTER_WORDS);
   auto value = [&](std::uint32_t low) { return std::uint64_t(words[low]) | (std::uint64_t(words[low + 1]) << 32); };
   TraceReport report;
   report.rays = value(BVH_COUNTER_RAYS);
@@ -143,7 +144,7 @@ TraceReport BvhTracer::readCounters() const {
 
 std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuery> rays, bool anyHit) {
   std::vector<shared::RayHit> out(rays.size());
-  std::memset(counters_.data(), 0, kCounterBytes);  // no GPU work is in flight between submissions
+  std::memset(raysCounters_.data(), 0, kCounterBytes);  // no GPU work is in flight between submissions
   const std::size_t batchCapacity = std::min(rays.size(), kRaysPerSubmit);
   if (batchCapacity > 0 && (!queries_ || queries_->size() < batchCapacity * sizeof(shared::RayQuery))) {
     queries_.emplace(context_, batchCapacity * sizeof(shared::RayQuery), vk::BufferUsageFlagBits::eStorageBuffer,
@@ -160,7 +161,7 @@ std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuer
       raysPipeline_.bind(cmd, gpu::Descriptors{}
                                   .buffer(BVH_BINDING_NODES, nodes_)
                                   .buffer(BVH_BINDING_TRIANGLES, triangles_)
-                                  .buffer(BVH_BINDING_COUNTERS, counters_)
+                                  .buffer(BVH_BINDING_COUNTERS, raysCounters_)
                                   .buffer(3, *queries_)
                                   .buffer(4, *hits_));
       // Dispatches write disjoint ranges, so they need no barriers between them.
@@ -175,7 +176,7 @@ std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuer
     const auto hits = hits_->download<shared::RayHit>(batch.size());
     std::copy(hits.begin(), hits.end(), out.begin() + std::ptrdiff_t(begin));
   }
-  raysReport_ = readCounters();
+  raysReport_ = readCounters(raysCounters_);
   return out;
 }
 

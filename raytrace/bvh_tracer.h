@@ -23,7 +23,7 @@ class BvhTracer final : public ShadowTracer {
   // Resets the counters and records the indirect trace; its barriers order it after the compute
   // pass that wrote job.points / job.count and before later compute passes and host reads.
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
-  TraceReport finish(const TraceJob& job) override;  // reads the counters of the last record()
+  TraceReport finish(const TraceJob& job) override;  // the counters of the last record() (each resets them)
 
   const BvhStats& stats() const { return stats_; }
 
@@ -35,13 +35,14 @@ class BvhTracer final : public ShadowTracer {
 
  private:
   BvhTracer(const gpu::Context& context, Bvh bvh);
-  TraceReport readCounters() const;
+  static TraceReport readCounters(const gpu::Buffer& counters);
 
   const gpu::Context& context_;
   BvhStats stats_;
   gpu::Buffer nodes_;
   gpu::Buffer triangles_;
-  gpu::Buffer counters_;  // BVH_COUNTER_WORDS uint: rays, node visits, triangle tests (64-bit each)
+  gpu::Buffer counters_;      // BVH_COUNTER_WORDS uint: rays, node visits, triangle tests (64-bit each)
+  gpu::Buffer raysCounters_;  // the same for traceRays, so it never disturbs a recorded trace
   gpu::ComputePipeline tracePipeline_;
   gpu::ComputePipeline raysPipeline_;
   std::optional<gpu::Buffer> queries_;  // traceRays staging, grown on demand

@@ -16,7 +16,8 @@ uint bvhNodeVisits = 0u;
 uint bvhTriangleTests = 0u;
 
 // The computed slab distances may be off by a few ulps; widening the exit distance keeps the box
-// test conservative (a box the ray touches is never culled), as in pbrt's robust slab test.
+// test conservative (a box the ray touches is never culled), as in pbrt's robust slab test. The
+// builder's padding covers origins lying on a box face, where the exit distance is about zero.
 const float kBvhExitScale = 1.0f + 1.0e-6f;
 
 // Whether the ray meets box [lo, hi] within [tMin, tMax]; `enter` gets its entry distance.

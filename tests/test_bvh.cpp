@@ -363,7 +363,7 @@ void compareWithEmbree(const std::string& spec, std::size_t count, Agreement& a)
   }
   EXPECT_EQ(anyReport.rays, rays.size());
   std::printf("[ %s ] %zu rays, %zu disagree (", spec.c_str(), a.rays, a.rays - a.agree);
-  for (int k = 0; k < kKinds; ++k) std::printf("%s %s %zu", k ? "," : "", kKindNames[k], a.disagree[k]);
+  for (int k = 0; k < kKinds; ++k) std::printf("%s%s %zu", k ? ", " : "", kKindNames[k], a.disagree[k]);
   std::printf(
       "; %zu not ties), %zu leaks; closest t off > 1e-4 on %zu of %zu; any-hit %.2f Mrays/s, %.1f nodes and "
       "%.1f triangles per ray\n",
