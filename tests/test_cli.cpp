@@ -69,6 +69,9 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method sm --scene builtin:square --pcf-kernel 7x7", "--pcf-kernel"},
       {"render --method sm --scene builtin:square --view /nonexistent/view.json", "view.json"},
       {"compare --methods , --scene builtin:square", "--methods"},
+      {"compare --methods srt --tracer nosuch --scene builtin:square", "--tracer"},
+      {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
+      {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
       {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "MiB"},
   };
   for (const auto& [args, mention] : cases) {
