@@ -1,4 +1,5 @@
 #include "raster/shadow_map_pass.h"
+#include "raster/light_faces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -88,7 +89,9 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
 ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount)
     : settings_(settings),
       depth_(context, {vk::Format::eD32Sfloat, settings.resolution, settings.resolution, faceCount,
-                       vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eSampled, "shadow map", true}),
+                       vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eSampled |
+                           vk::ImageUsageFlagBits::eTransferSrc,  // readable by tests and debugging dumps
+                       "shadow map", true}),
       sampler_(gpu::makeNearestSampler(context, "shadow map sampler")),
       pipeline_(context, [] {
         gpu::GraphicsPipelineDesc d;
@@ -103,35 +106,13 @@ ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSetting
 
 void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
                            const shared::ShadowMapInfo& info) const {
-  if (info.faceCount != faceCount() || info.resolution != settings_.resolution) {
-    throw std::logic_error("ShadowMapPass: shadow map info does not match the pass's faces or resolution");
-  }
-  using Stage = vk::PipelineStageFlagBits2;
-  using Access = vk::AccessFlagBits2;
-  gpu::transition(cmd, depth_, {vk::ImageLayout::eUndefined, vk::ImageLayout::eDepthAttachmentOptimal, Stage::eAllCommands,
-                                Access::eMemoryRead, Stage::eEarlyFragmentTests | Stage::eLateFragmentTests,
-                                Access::eDepthStencilAttachmentWrite | Access::eDepthStencilAttachmentRead});
-  const std::uint32_t res = settings_.resolution;
-  const vk::Rect2D area{{0, 0}, {res, res}};
-  for (std::uint32_t face = 0; face < info.faceCount; ++face) {
-    const vk::RenderingAttachmentInfo depth{.imageView = depth_.layerView(face),
-                                            .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
-                                            .loadOp = vk::AttachmentLoadOp::eClear,
-                                            .storeOp = vk::AttachmentStoreOp::eStore,
-                                            .clearValue = vk::ClearValue{.depthStencil = {.depth = 1.0f, .stencil = 0}}};
-    cmd.beginRendering({.renderArea = area, .layerCount = 1, .pDepthAttachment = &depth});
-    cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(res), float(res), 0.0f, 1.0f});
-    cmd.setScissor(0, area);
+  recordLightFaces(cmd, depth_, info, [&](std::uint32_t face) {
     cmd.setDepthBias(settings_.depthBiasConstant, 0.0f, settings_.depthBiasSlope);
     pipeline_.bind(cmd, gpu::Descriptors{});
     pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
     geometry.bind(cmd);
     geometry.draw(cmd);
-    cmd.endRendering();
-  }
-  gpu::transition(cmd, depth_, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eShaderReadOnlyOptimal,
-                                Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eComputeShader,
-                                Access::eShaderSampledRead});
+  });
 }
 
 }  // namespace penumbra::raster

@@ -17,7 +17,6 @@
 #include "raster/shadow_map_pass.h"
 #include "raster/thin_triangle_pass.h"
 #include "render_fixture.h"
-#include "shadow_map_vert.h"
 #include "shared/raster.h"
 #include "shared/thin.h"
 
@@ -28,56 +27,6 @@ using raster::ThinTriangleSettings;
 constexpr std::uint32_t kRes = 256;
 using Tri = std::array<glm::dvec2, 3>;  // texel space
 
-// ShadowMapPass's depth image is not a transfer source, so the ordinary coverage is rendered again
-// here with its vertex shader and depth state (minus the bias, which moves depth, not coverage).
-class OrdinaryDepth {
- public:
-  OrdinaryDepth(const gpu::Context& context, std::uint32_t faces)
-      : depth_(context, {vk::Format::eD32Sfloat, kRes, kRes, faces,
-                         vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eTransferSrc,
-                         "test ordinary depth", true}),
-        pipeline_(context, [] {
-          gpu::GraphicsPipelineDesc d;
-          d.vertexSpirv = shadow_map_vert;
-          d.vertexBindings = {{.binding = 0, .stride = sizeof(raster::RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
-          d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(raster::RasterVertex, position)}};
-          d.pushConstantBytes = sizeof(shared::ShadowMapPush);
-          d.name = "test ordinary depth pipeline";
-          return d;
-        }()) {}
-  // Leaves the image in GENERAL for gpu::copyImageToBuffer.
-  void record(const vk::raii::CommandBuffer& cmd, const raster::SceneGeometry& geometry, const shared::ShadowMapInfo& info) const {
-    using Stage = vk::PipelineStageFlagBits2;
-    using Access = vk::AccessFlagBits2;
-    gpu::transition(cmd, depth_, {vk::ImageLayout::eUndefined, vk::ImageLayout::eDepthAttachmentOptimal, Stage::eAllCommands,
-                                  Access::eMemoryRead, Stage::eEarlyFragmentTests | Stage::eLateFragmentTests,
-                                  Access::eDepthStencilAttachmentWrite | Access::eDepthStencilAttachmentRead});
-    const vk::Rect2D area{{0, 0}, {kRes, kRes}};
-    for (std::uint32_t face = 0; face < info.faceCount; ++face) {
-      const vk::RenderingAttachmentInfo depth{.imageView = depth_.layerView(face),
-                                              .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
-                                              .loadOp = vk::AttachmentLoadOp::eClear,
-                                              .storeOp = vk::AttachmentStoreOp::eStore,
-                                              .clearValue = vk::ClearValue{.depthStencil = {.depth = 1.0f, .stencil = 0}}};
-      cmd.beginRendering({.renderArea = area, .layerCount = 1, .pDepthAttachment = &depth});
-      cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(kRes), float(kRes), 0.0f, 1.0f});
-      cmd.setScissor(0, area);
-      pipeline_.bind(cmd, gpu::Descriptors{});
-      pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
-      geometry.bind(cmd);
-      geometry.draw(cmd);
-      cmd.endRendering();
-    }
-    gpu::transition(cmd, depth_, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eGeneral,
-                                  Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eCopy,
-                                  Access::eTransferRead});
-  }
-  const gpu::Image& depth() const { return depth_; }
-
- private:
-  gpu::Image depth_;
-  gpu::GraphicsPipeline pipeline_;
-};
 
 struct Maps {
   std::vector<float> ordinary;  // faceCount layers of kRes * kRes, row-major, framebuffer y
@@ -99,23 +48,22 @@ Maps render(const Scene& scene, const shared::ShadowMapInfo& info, ThinTriangleS
   const raster::SceneGeometry geometry(context, scene);
   const raster::ShadowMapPass shadowMap(context, mapSettings(), info.faceCount);
   const raster::ThinTrianglePass pass(context, mapSettings(), info.faceCount, thin);
-  const OrdinaryDepth ordinary(context, info.faceCount);
-  const gpu::Buffer ordinaryBuffer(context, ordinary.depth().bytes(), vk::BufferUsageFlagBits::eTransferDst, "test ordinary readback");
+  const gpu::Buffer ordinaryBuffer(context, shadowMap.depth().bytes(), vk::BufferUsageFlagBits::eTransferDst, "test ordinary readback");
   const gpu::Buffer thinBuffer(context, pass.depth().bytes(), vk::BufferUsageFlagBits::eTransferDst, "test thin readback");
   context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     using Stage = vk::PipelineStageFlagBits2;
     using Access = vk::AccessFlagBits2;
     shadowMap.record(cmd, geometry, info);  // the pair a frame records: both must be validation-clean
     pass.record(cmd, geometry, info);
-    ordinary.record(cmd, geometry, info);
-    gpu::copyImageToBuffer(cmd, ordinary.depth(), ordinaryBuffer);
-    // The mask is left for compute reads; the copy wants GENERAL, then it goes back.
-    gpu::transition(cmd, pass.depth(), {vk::ImageLayout::eShaderReadOnlyOptimal, vk::ImageLayout::eGeneral,
-                                        Stage::eComputeShader, Access::eNone, Stage::eCopy, Access::eTransferRead});
-    gpu::copyImageToBuffer(cmd, pass.depth(), thinBuffer);
-    gpu::transition(cmd, pass.depth(), {vk::ImageLayout::eGeneral, vk::ImageLayout::eShaderReadOnlyOptimal,
-                                        Stage::eAllCommands, Access::eNone, Stage::eComputeShader,
-                                        Access::eShaderSampledRead});
+    // Both maps are left for compute reads; the copy wants GENERAL, then they go back.
+    for (const auto& [image, buffer] : {std::pair{&shadowMap.depth(), &ordinaryBuffer}, std::pair{&pass.depth(), &thinBuffer}}) {
+      gpu::transition(cmd, *image, {vk::ImageLayout::eShaderReadOnlyOptimal, vk::ImageLayout::eGeneral,
+                                    Stage::eComputeShader, Access::eNone, Stage::eCopy, Access::eTransferRead});
+      gpu::copyImageToBuffer(cmd, *image, *buffer);
+      gpu::transition(cmd, *image, {vk::ImageLayout::eGeneral, vk::ImageLayout::eShaderReadOnlyOptimal,
+                                    Stage::eAllCommands, Access::eNone, Stage::eComputeShader,
+                                    Access::eShaderSampledRead});
+    }
   });
   const std::size_t count = std::size_t(info.faceCount) * kRes * kRes;
   return {ordinaryBuffer.download<float>(count), thinBuffer.download<float>(count)};
