@@ -42,7 +42,8 @@ void requireFinite(float value, const char* option) {
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating.
 std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
-  const std::uint64_t shadowMap = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4 * 6;  // worst case: cube
+  // Worst case a cube, twice: msm renders its sample maps into a map of its own.
+  const std::uint64_t shadowMap = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4 * 6 * 2;
   const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4) * 2;  // images + readbacks
   const std::uint64_t frame = pixels * (4 + 4 + 32);            // visibility, colour, shading points
   const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36);
@@ -67,6 +68,8 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--shadow-map-res", c.shadowMapRes, "Shadow map texels per side (per cube face)")
       ->capture_default_str()->check(CLI::Range(16u, 16384u));
   app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
+  app.add_option("--msm-maps", c.msmMaps, "Shadow maps (light samples) averaged by method msm")
+      ->capture_default_str()->check(CLI::Range(1u, 256u));
   app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
@@ -143,6 +146,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.referenceSpp = c.referenceSpp;
   s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
+  s.settings.msmMaps = c.msmMaps;
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on"};
@@ -170,6 +174,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"spp", s.settings.spp},
           {"shadow_map_res", s.settings.shadowMap.resolution},
           {"pcf_kernel", c.pcfKernel},
+          {"msm_maps", s.settings.msmMaps},
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},

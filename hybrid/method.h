@@ -31,7 +31,9 @@ std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for 
 std::vector<std::string> methodNames();
 
 // Factories, one per method file.
-std::unique_ptr<Method> makeShadowMapMethod(bool filtered);  // sm (filtered = false), pcf (true)
+enum class ShadowMapFilter { None, Pcf, Pcss };
+std::unique_ptr<Method> makeShadowMapMethod(ShadowMapFilter filter);  // sm (None), pcf (Pcf), pcss (Pcss)
+std::unique_ptr<Method> makeMultiMapMethod();  // msm: average of settings.msmMaps light-sample maps
 std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
 std::unique_ptr<Method> makeTracedMethod(bool selective);   // srt (selective = true), frt
 

@@ -10,8 +10,10 @@ namespace {
 
 const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry() {
   static const std::map<std::string, std::function<std::unique_ptr<Method>()>> methods{
-      {"sm", [] { return makeShadowMapMethod(false); }},
-      {"pcf", [] { return makeShadowMapMethod(true); }},
+      {"sm", [] { return makeShadowMapMethod(ShadowMapFilter::None); }},
+      {"pcf", [] { return makeShadowMapMethod(ShadowMapFilter::Pcf); }},
+      {"pcss", [] { return makeShadowMapMethod(ShadowMapFilter::Pcss); }},
+      {"msm", [] { return makeMultiMapMethod(); }},
       {"ref", [] { return makeReferenceMethod(); }},
       {"srt", [] { return makeTracedMethod(true); }},
       {"frt", [] { return makeTracedMethod(false); }},

@@ -68,10 +68,21 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     thin_->record(cmd, geometry_, frameData_.shadow);
     timer_.end(cmd);
   }
+  const gpu::Image* thinMask = thin ? &thin_->depth() : nullptr;
+  const vk::Sampler thinSampler = thin ? thin_->sampler() : vk::Sampler{};
   const auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
+  if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
+    pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
+  }
+  if (shared::isAreaLight(frameData_.light)) {  // the penumbra mask reads the pyramid; hard shadows do not
+    stats.memoryBytes["depth_pyramid"] = pyramid_->tiles().size();
+    timer_.begin(cmd, "depth_pyramid");
+    pyramid_->record(cmd, *shadowMap_, thinMask, thinSampler, frameData_.shadow, push.deltaThreshold);
+    timer_.end(cmd);
+  }
   timer_.begin(cmd, "classify");
-  classify_.record(cmd, gbuffer_, *shadowMap_, thin ? &thin_->depth() : nullptr, thin ? thin_->sampler() : vk::Sampler{},
-                   frameBuffer_, {visibility_, smVisibility_, traceFlags_, rayMax_}, push);
+  classify_.record(cmd, gbuffer_, *shadowMap_, thinMask, thinSampler, *pyramid_, frameBuffer_,
+                   {visibility_, smVisibility_, traceFlags_, rayMax_}, push);
   timer_.end(cmd);
 }
 

@@ -31,6 +31,7 @@ struct RenderSettings {
   std::uint32_t referenceSpp = 0;    // samples for `ref`; 0 = spp
   raster::ShadowMapSettings shadowMap;
   std::uint32_t pcfFilter = FILTER_PCF3;  // kernel of `pcf`: FILTER_PCF3, FILTER_PCF5, FILTER_POISSON
+  std::uint32_t msmMaps = 4;         // `msm`: shadow maps from this many light samples, averaged
   float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
   std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU) or "embree" (CPU)
   raster::PipSettings pip;
@@ -98,6 +99,7 @@ class Renderer {
   CompactPass compact_;
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   std::unique_ptr<raster::ThinTrianglePass> thin_;
+  std::unique_ptr<raster::DepthPyramidPass> pyramid_;
   std::unique_ptr<EmbreeTracer> embree_;
   std::unique_ptr<BvhTracer> bvh_;
   gpu::Buffer frameBuffer_, visibility_, color_;

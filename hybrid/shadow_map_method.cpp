@@ -1,5 +1,6 @@
-// Methods sm and pcf: camera pass, light pass, and a shadow-map lookup from the light's centre
-// (unfiltered for sm, the configured PCF kernel for pcf). Area lights are treated as their centre.
+// Methods sm, pcf and pcss: camera pass, light pass, and a shadow-map lookup from the light's
+// centre (unfiltered for sm, the configured PCF kernel for pcf, blocker search + penumbra-sized PCF
+// for pcss). sm and pcf treat area lights as their centre; pcss uses the light's size.
 #include "hybrid/method.h"
 #include "hybrid/renderer.h"
 
@@ -8,10 +9,15 @@ namespace {
 
 class ShadowMapMethod final : public Method {
  public:
-  explicit ShadowMapMethod(bool filtered) : filtered_(filtered) {}
+  explicit ShadowMapMethod(ShadowMapFilter filter) : filter_(filter) {}
 
   std::uint32_t shadowFilter(const RenderSettings& settings) const override {
-    return filtered_ ? settings.pcfFilter : FILTER_NONE;
+    switch (filter_) {
+      case ShadowMapFilter::Pcf: return settings.pcfFilter;
+      case ShadowMapFilter::Pcss: return FILTER_PCSS;
+      case ShadowMapFilter::None: break;
+    }
+    return FILTER_NONE;
   }
   std::uint32_t samplesPerPixel(const RenderSettings&) const override { return 1; }
 
@@ -26,11 +32,11 @@ class ShadowMapMethod final : public Method {
   }
 
  private:
-  bool filtered_;
+  ShadowMapFilter filter_;
 };
 
 }  // namespace
 
-std::unique_ptr<Method> makeShadowMapMethod(bool filtered) { return std::make_unique<ShadowMapMethod>(filtered); }
+std::unique_ptr<Method> makeShadowMapMethod(ShadowMapFilter filter) { return std::make_unique<ShadowMapMethod>(filter); }
 
 }  // namespace penumbra

@@ -11,7 +11,7 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {2, vk::DescriptorType::eCombinedImageSampler}, {3, vk::DescriptorType::eCombinedImageSampler},
                                       {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
-                                      {8, vk::DescriptorType::eStorageBuffer}};
+                                      {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -31,8 +31,9 @@ shared::PipPush PipClassifyPass::pushFor(const PipSettings& settings, const shar
 }
 
 void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-                             const gpu::Image* thinMask, vk::Sampler thinSampler, const gpu::Buffer& frame,
-                             const PipBuffers& out, const shared::PipPush& push) const {
+                             const gpu::Image* thinMask, vk::Sampler thinSampler, const DepthPyramidPass& pyramid,
+                             const gpu::Buffer& frame, const PipBuffers& out, shared::PipPush push) const {
+  push.pyramidLevels = pyramid.levels();
   // Without a thin mask the binding still needs an image: the shadow map stands in, unread.
   const vk::ImageView thinView = thinMask ? thinMask->view() : shadowMap.depth().view();
   pipeline_.bind(cmd, gpu::Descriptors{}
@@ -44,7 +45,8 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                           .buffer(5, out.visibility)
                           .buffer(6, out.smVisibility)
                           .buffer(7, out.traceFlags)
-                          .buffer(8, out.rayMax));
+                          .buffer(8, out.rayMax)
+                          .buffer(9, pyramid.tiles()));
   pipeline_.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -3,6 +3,7 @@
 // shadows, how far their shadow rays need to go.
 #pragma once
 #include "gpu/pipeline.h"
+#include "raster/depth_pyramid_pass.h"
 #include "raster/gbuffer_pass.h"
 #include "raster/shadow_map_pass.h"
 #include "shared/pip.h"
@@ -29,8 +30,8 @@ class PipClassifyPass {
   explicit PipClassifyPass(const gpu::Context& context);
   // thinMask: the thin-triangle depth mask, or nullptr when the thin pass is off.
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-              const gpu::Image* thinMask, vk::Sampler thinSampler, const gpu::Buffer& frame, const PipBuffers& out,
-              const shared::PipPush& push) const;
+              const gpu::Image* thinMask, vk::Sampler thinSampler, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
+              const PipBuffers& out, shared::PipPush push) const;
 
   // The push constants for `settings` on this frame's shadow map.
   static shared::PipPush pushFor(const PipSettings& settings, const shared::ShadowMapInfo& info, bool thinMaskBound,

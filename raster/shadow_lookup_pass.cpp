@@ -12,19 +12,25 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},
                                       {3, vk::DescriptorType::eStorageBuffer},
                                       {4, vk::DescriptorType::eStorageBuffer}};
 
+// Matches the shader's push block.
+struct LookupPush {
+  float accumulateWeight;
+};
+
 }  // namespace
 
 ShadowLookupPass::ShadowLookupPass(const gpu::Context& context)
-    : pipeline_(context, shadow_lookup_comp, kBindings, 0, "shadow lookup pipeline") {}
+    : pipeline_(context, shadow_lookup_comp, kBindings, sizeof(LookupPush), "shadow lookup pipeline") {}
 
 void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-                              const gpu::Buffer& frame, const gpu::Buffer& visibility) const {
+                              const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight) const {
   pipeline_.bind(cmd, gpu::Descriptors{}
                           .storageImage(0, gbuffer.position().view())
                           .storageImage(1, gbuffer.normal().view())
                           .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
                           .buffer(3, frame)
                           .buffer(4, visibility));
+  pipeline_.pushConstants(cmd, LookupPush{accumulateWeight});
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

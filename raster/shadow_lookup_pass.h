@@ -1,5 +1,6 @@
-// Shadow-map lookup (methods sm and pcf): one visibility value per pixel from the light's centre,
-// unfiltered or percentage-closer filtered (3x3, 5x5, Poisson disc).
+// Shadow-map lookup: one visibility value per pixel from one shadow map, unfiltered or
+// percentage-closer filtered (3x3, 5x5, Poisson disc, PCSS). Methods sm, pcf and pcss overwrite
+// the visibility buffer; msm accumulates a weighted sum over several maps.
 #pragma once
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
@@ -11,8 +12,9 @@ class ShadowLookupPass {
  public:
   explicit ShadowLookupPass(const gpu::Context& context);
   // frame holds FrameData (shadowFilter selects the kernel); visibility gets width*height floats.
+  // accumulateWeight 0 overwrites; > 0 adds accumulateWeight * visibility to what is there.
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-              const gpu::Buffer& frame, const gpu::Buffer& visibility) const;
+              const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight = 0.0f) const;
 
  private:
   gpu::ComputePipeline pipeline_;

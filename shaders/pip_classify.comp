@@ -9,9 +9,15 @@
 //  - a neighbourhood that leaves its cube face (seams are classified conservatively).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
+// Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
+// extent scaled by (d - z)/z for an edge at depth z; computed here by gathering instead of
+// splatting: a pixel is in the mask iff a depth edge lies within reach R(z) = h (d - z) / (z d a)
+// texels (h: the light's half extent, a: a texel's angle), bounded with the min/max pyramid.
+// Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/pip.h"
+#include "shared/pyramid.h"
 layout(local_size_x = PIP_GROUP_SIZE, local_size_y = PIP_GROUP_SIZE) in;
 layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
 layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
@@ -22,6 +28,7 @@ layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
 layout(std430, binding = 7) writeonly buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
+layout(std430, binding = 9) readonly buffer Pyramid { vec2 tiles[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
 
 float linearDepth(float z) {
@@ -34,6 +41,33 @@ float axisDepth(vec4 clip) {
 }
 float axisDepthRate(vec4 clipDir) {
   return frame.shadow.kind == SHADOW_ORTHO ? clipDir.z * (frame.shadow.farPlane - frame.shadow.nearPlane) : clipDir.w;
+}
+
+// (min blocker depth, max depth) over the texels within `radius` of t on `face`: the smallest
+// pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
+// .z = 1 when the window leaves the face (a cube seam); .w = the distance in texels from t to the
+// farthest texel the tiles cover (the window actually tested).
+vec4 windowMinMax(ivec2 t, float radius, uint face) {
+  int res = int(frame.shadow.resolution);
+  int r = int(ceil(radius));
+  ivec2 lo = t - ivec2(r), hi = t + ivec2(r);
+  float seam = any(lessThan(lo, ivec2(0))) || any(greaterThanEqual(hi, ivec2(res))) ? 1.0 : 0.0;
+  lo = clamp(lo, ivec2(0), ivec2(res - 1));
+  hi = clamp(hi, ivec2(0), ivec2(res - 1));
+  uint level = 1u;
+  while (level < push.pyramidLevels && any(greaterThan((hi >> level) - (lo >> level), ivec2(3)))) ++level;
+  uint dim = pyramidDim(frame.shadow.resolution, level);
+  uint base = pyramidOffset(frame.shadow.resolution, frame.shadow.faceCount, level);
+  vec2 result = vec2(1.0, 0.0);
+  for (int y = lo.y >> level; y <= (hi.y >> level); ++y) {
+    for (int x = lo.x >> level; x <= (hi.x >> level); ++x) {
+      vec2 tile = tiles[base + (face * dim + uint(y)) * dim + uint(x)];
+      result = vec2(min(result.x, tile.x), max(result.y, tile.y));
+    }
+  }
+  ivec2 coveredLo = (lo >> level) << level, coveredHi = (((hi >> level) + 1) << level) - 1;
+  vec2 extent = vec2(max(t - coveredLo, coveredHi - t));
+  return vec4(result, seam, length(extent));
 }
 
 void write(uint index, float vis, uint flags, float maxDistance) {
@@ -52,7 +86,15 @@ void main() {
   vec3 p = position.xyz;
   vec3 n = imageLoad(gNormal, pix).xyz;
   GpuLight light = frame.light;
-  if (!lightReaches(light, p, n, light.position.xyz)) { write(index, 0.0, 0u, 0.0); return; }
+  bool area = isAreaLight(light);
+  float halfExtent = light.type == LIGHT_RECT ? light.size * 0.70710678 : light.size * 0.5;
+  float facing = dot(n, light.position.xyz - p);  // > halfExtent: every light point is above the tangent plane
+  if (!lightReaches(light, p, n, light.position.xyz)) {
+    // An area light may still be partly above the receiver's tangent plane: trace those.
+    bool partly = area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
+    write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0);
+    return;
+  }
 
   uint kind = frame.shadow.kind;
   uint face = shadowFace(kind, frame.shadow.lightPosition, p);
@@ -97,6 +139,28 @@ void main() {
   }
 
   float d = linearDepth(ndc.z);
+  if (area) {
+    // A texel's angle at p (texelWorld is its size at unit distance on the face's axis).
+    float dist = length(p - frame.shadow.lightPosition.xyz);
+    float cosAxis = axisDepth(clip) / dist;
+    float alpha = frame.shadow.texelWorld * cosAxis * cosAxis;
+    float zNear = frame.shadow.nearPlane;
+    // Reach for blockers no closer than z, plus 1.5 texels for rasterization.
+    float reachNear = min(halfExtent * (d - zNear) / (zNear * d * alpha) + 1.5, float(res));
+    vec4 wide = windowMinMax(t, reachNear, face);
+    float z1 = max(linearDepth(wide.x), zNear);
+    float reach = min(halfExtent * max(d - z1, 0.0) / (z1 * d * alpha) + 1.5, float(res));
+    vec4 window = windowMinMax(t, reach, face);
+    // In the mask iff an edge texel nearer to the light than the receiver lies within reach (its
+    // splat covers the pixel); outside it the centre map's lit/umbra answer stands.
+    bool edgeInReach = linearDepth(window.x) < d - push.depthMargin;
+    bool straddles = facing < halfExtent;  // part of the light below the tangent plane
+    uint softFlags = flags & PIP_THIN;
+    if (straddles || (window.z > 0.0 && kind == SHADOW_CUBE) || edgeInReach) softFlags |= PIP_PENUMBRA;
+    float answer = vis;
+    write(index, answer, softFlags, 0.0);
+    return;
+  }
   if (delta > push.deltaThreshold) {
     vec3 l = directionToLight(light, p, light.position.xyz);
     float sinB = clamp(dot(n, l), 1e-4, 1.0);

@@ -1,5 +1,7 @@
 #version 450
-// Shadow-map lookup for the sm and pcf methods: visibility of the light's centre per pixel.
+// Shadow-map lookup: visibility per pixel from one shadow map. sm and pcf look up the light's
+// centre map (unfiltered or PCF); pcss sizes its PCF kernel from a blocker search; msm runs this
+// once per light-sample map in accumulate mode, adding weight * visibility.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/raster.h"
@@ -8,7 +10,13 @@ layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
 layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
 layout(binding = 2) uniform sampler2DArray shadowMap;
 layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 4) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 4) buffer Visibility { float visibility[]; };
+// accumulateWeight 0: overwrite visibility; > 0: add accumulateWeight * visibility (msm).
+layout(push_constant) uniform Push { float accumulateWeight; } push;
+
+// PCSS cost bounds: 16 blocker-search taps and 32 filter taps, each within this many texels of the
+// receiver's texel. Larger penumbrae are under-blurred rather than made unboundedly expensive.
+const float kPcssMaxRadiusTexels = 32.0;
 
 const vec2 kPoisson[16] = vec2[](
     vec2(-0.94201624, -0.39906216), vec2(0.94558609, -0.76890725), vec2(-0.09418410, -0.92938870),
@@ -25,15 +33,62 @@ float litAt(ivec2 t, uint face, float depth) {
   return depth <= texelFetch(shadowMap, ivec3(t, int(face)), 0).r ? 1.0 : 0.0;
 }
 
+void store(uint index, float v) {
+  if (push.accumulateWeight > 0.0) visibility[index] += push.accumulateWeight * v;
+  else visibility[index] = v;
+}
+
+// Fernando 2005 for an area light of world size frame.light.size. Depths are linear along the
+// face axis; radii are in texels of the map. Returns 1 when the blocker search finds nothing.
+float pcss(vec2 centre, uint face, float ndcZ, mat2 rot) {
+  uint kind = frame.shadow.kind;
+  float nearPlane = frame.shadow.nearPlane, farPlane = frame.shadow.farPlane;
+  float d = linearShadowDepth(kind, nearPlane, farPlane, ndcZ);
+  // Texels per world unit at linear depth z: texelWorld is the texel size at unit distance for
+  // perspective faces and the fixed texel size for ortho ones.
+  float perWorldNear = kind == SHADOW_ORTHO ? 1.0 / frame.shadow.texelWorld : 1.0 / (nearPlane * frame.shadow.texelWorld);
+  float perWorldAtD = kind == SHADOW_ORTHO ? 1.0 / frame.shadow.texelWorld : 1.0 / (d * frame.shadow.texelWorld);
+  float lightSize = frame.light.size;
+  // Blockers of the receiver lie inside the cone from it to the light; on the near plane that
+  // cone is lightSize * (d - near) / d wide. Searching its half-width covers it.
+  float searchRadius = min(0.5 * lightSize * perWorldNear * max(d - nearPlane, 0.0) / d, kPcssMaxRadiusTexels);
+  float blockerSum = 0.0;
+  float blockers = 0.0;
+  for (int i = 0; i < 16; ++i) {
+    ivec2 t = ivec2(floor(centre + searchRadius * (rot * kPoisson[i])));
+    int res = int(frame.shadow.resolution);
+    t = clamp(t, ivec2(0), ivec2(res - 1));
+    float z = texelFetch(shadowMap, ivec3(t, int(face)), 0).r;
+    if (z < ndcZ) {
+      blockerSum += linearShadowDepth(kind, nearPlane, farPlane, z);
+      blockers += 1.0;
+    }
+  }
+  if (blockers == 0.0) return 1.0;
+  float zB = blockerSum / blockers;
+  // Penumbra width at the receiver (similar triangles, parallel planes), halved to a kernel radius.
+  float penumbraWorld = max(d - zB, 0.0) * lightSize / zB;
+  float radius = min(0.5 * penumbraWorld * perWorldAtD, kPcssMaxRadiusTexels);
+  // 32 taps: the 16-tap disc at two rotations.
+  float c = cos(1.0), s = sin(1.0);
+  mat2 rot2 = rot * mat2(c, s, -s, c);
+  float lit = 0.0;
+  for (int i = 0; i < 16; ++i) {
+    lit += litAt(ivec2(floor(centre + radius * (rot * kPoisson[i]))), face, ndcZ);
+    lit += litAt(ivec2(floor(centre + radius * (rot2 * kPoisson[i]))), face, ndcZ);
+  }
+  return lit / 32.0;
+}
+
 void main() {
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
   if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
   vec4 position = imageLoad(gPosition, pix);
-  if (position.w == 0.0) { visibility[index] = 1.0; return; }
+  if (position.w == 0.0) { store(index, 1.0); return; }
   vec3 p = position.xyz;
   vec3 n = imageLoad(gNormal, pix).xyz;
-  if (!lightReaches(frame.light, p, n, frame.light.position.xyz)) { visibility[index] = 0.0; return; }
+  if (!lightReaches(frame.light, p, n, frame.light.position.xyz)) { store(index, 0.0); return; }
 
   uint kind = frame.shadow.kind;
   uint face = shadowFace(kind, frame.shadow.lightPosition, p);
@@ -44,13 +99,17 @@ void main() {
   vec2 uv = ndc.xy * 0.5 + 0.5;
   // Outside the map (or beyond its far plane) nothing was rendered that could block.
   if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
-    visibility[index] = 1.0;
+    store(index, 1.0);
     return;
   }
   ivec2 t = ivec2(floor(uv * float(frame.shadow.resolution)));
   float lit = 0.0;
-  if (frame.shadowFilter == FILTER_NONE) {
+  if (frame.shadowFilter == FILTER_NONE || (frame.shadowFilter == FILTER_PCSS && !isAreaLight(frame.light))) {
     lit = litAt(t, face, ndc.z);
+  } else if (frame.shadowFilter == FILTER_PCSS) {
+    float angle = 6.2831853 * hashToUnit(pcgHash(index));
+    mat2 rot = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
+    lit = pcss(uv * float(frame.shadow.resolution), face, ndc.z, rot);
   } else if (frame.shadowFilter == FILTER_POISSON) {
     float angle = 6.2831853 * hashToUnit(pcgHash(index));
     mat2 rot = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
@@ -63,5 +122,5 @@ void main() {
       for (int x = -r; x <= r; ++x) lit += litAt(t + ivec2(x, y), face, ndc.z);
     lit /= float((2 * r + 1) * (2 * r + 1));
   }
-  visibility[index] = lit;
+  store(index, lit);
 }

@@ -153,5 +153,52 @@ TEST(Selective, RayIntervalsKeepAnswersAndSaveSteps) {
   expectValidationSilent();
 }
 
+// Soft shadows (3.2): pixels outside the penumbra mask keep lit/umbra from the centre map, the
+// rest get spp rays with the same per-pixel samples frt uses, so srt and frt differ only where the
+// mask missed a penumbra pixel.
+struct SoftRun {
+  Frame srt, frt;
+  double differ = 0.0;  // fraction of covered pixels with |srt - frt| > 0.05
+};
+
+SoftRun softRun(const char* scene, float lightSizeFraction, std::uint32_t size = 192) {
+  RenderSettings settings = settingsFor(size);
+  settings.spp = 16;
+  SceneRun run(scene, settings);
+  run.light.size = lightSizeFraction * run.scene.bounds().radius();
+  SoftRun r{run.render("srt"), run.render("frt")};
+  r.differ = compareVisibility(r.srt.visibility, r.frt.visibility, r.frt.covered, kWrongThresholdSoft).wrongPixelFraction;
+  return r;
+}
+
+TEST(SoftSelective, MatchesFullRayTracingForSmallMediumLargeLights) {
+  for (float size : {0.02f, 0.1f, 0.3f}) {
+    const SoftRun r = softRun("builtin:courtyard", size);
+    std::cout << "courtyard light " << size << ": srt vs frt differ " << r.differ << ", pip " << *r.srt.stats.pipFraction
+              << ", rays srt " << *r.srt.stats.raysTraced << " frt " << *r.frt.stats.raysTraced << "\n";
+    EXPECT_LE(r.differ, 0.005) << "light size " << size;
+    EXPECT_LT(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced) << "light size " << size;
+  }
+  expectValidationSilent();
+}
+
+TEST(SoftSelective, ShrinkingLightConvergesToHardShadows) {
+  SceneRun hard("builtin:courtyard", settingsFor(192));
+  const Frame hardSrt = hard.render("srt");
+  const SoftRun tiny = softRun("builtin:courtyard", 1e-4f);
+  EXPECT_LE(compareVisibility(tiny.srt.visibility, hardSrt.visibility, hardSrt.covered, kWrongThresholdHard).wrongPixelFraction,
+            0.001);
+  expectValidationSilent();
+}
+
+TEST(SoftSelective, HugeLightDegradesGracefullyToFullRayTracing) {
+  const SoftRun r = softRun("builtin:courtyard", 1.5f);
+  std::cout << "huge light: pip " << *r.srt.stats.pipFraction << ", differ " << r.differ << "\n";
+  EXPECT_GT(*r.srt.stats.pipFraction, 0.5) << "a huge light puts most pixels in penumbra";
+  EXPECT_LE(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced);
+  EXPECT_LE(r.differ, 0.005);
+  expectValidationSilent();
+}
+
 }  // namespace
 }  // namespace penumbra::test

@@ -14,6 +14,7 @@ PN_BEGIN
 #define FILTER_PCF3 1u     // 3x3 percentage-closer filtering
 #define FILTER_PCF5 2u     // 5x5
 #define FILTER_POISSON 3u  // 16-tap Poisson disc, rotated per pixel
+#define FILTER_PCSS 4u     // percentage-closer soft shadows: blocker search, then PCF sized to the penumbra
 
 // std430, 448 bytes.
 struct ShadowMapInfo {

@@ -11,13 +11,16 @@ PN_BEGIN
 #define PIP_THIN 2u       // a conservatively rasterized thin triangle covers the neighbourhood in front
 #define PIP_SEAM 4u       // the neighbourhood leaves its cube face: classified conservatively
 #define PIP_OUTSIDE 8u    // outside the shadow map: nothing to classify with
+#define PIP_PENUMBRA 16u  // area light: a blocker edge within penumbra reach (the splat mask), or the
+                          // light straddles the receiver's tangent plane
 
 struct PipPush {  // 32 bytes
   float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
   float depthMargin;     // widens the receiver's depth interval [d-hat, d] on both sides (world units)
   uint useThin;          // test the thin-triangle mask
   uint useIntervals;     // write ray intervals (hard shadows only)
-  uint pad0, pad1, pad2, pad3;
+  uint pyramidLevels;    // levels of the depth pyramid (area lights)
+  uint pad1, pad2, pad3;
 };
 
 PN_END

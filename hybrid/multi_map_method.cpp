@@ -1,0 +1,104 @@
+// Method msm: the area light approximated by K point lights at its stratified sample points
+// (K = settings.msmMaps), one shadow map each, and visibility the average of the K unfiltered
+// lookups. Every pixel sees the same K points (pixel index 0), so the error is banding between
+// K hard shadows rather than per-pixel noise; it converges to the reference as K grows.
+//
+// Per map: render it into the method's own map image, then run the shared lookup in accumulate
+// mode (adding 1/K of its answer) against a FrameData copy whose .shadow is that sample's
+// projection. The copy keeps the centre light in .light, so lightReaches() -- and therefore the
+// zero outside a spot's cone or behind a rect/disk -- is the same rule sm applies.
+//
+// Timer scopes: with K <= kMaxTimedMaps each map adds a "shadow_map" and a "lookup" scope, which
+// FrameStats sums by name. The frame's timer holds 32 scopes (gbuffer and shade use two), so for
+// larger K a single "shadow_maps_and_lookups" scope covers the whole loop instead.
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "hybrid/method.h"
+#include "hybrid/renderer.h"
+
+namespace penumbra {
+namespace {
+
+constexpr std::uint32_t kMaxTimedMaps = 12;
+
+// The visibility buffer is read and written by every accumulating lookup.
+void visibilityBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess) {
+  const vk::MemoryBarrier2 barrier{.srcStageMask = srcStage,
+                                   .srcAccessMask = srcAccess,
+                                   .dstStageMask = vk::PipelineStageFlagBits2::eComputeShader,
+                                   .dstAccessMask = vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
+}
+
+class MultiMapMethod final : public Method {
+ public:
+  std::uint32_t samplesPerPixel(const RenderSettings& settings) const override { return settings.msmMaps; }
+
+  void run(Renderer& r, FrameStats& stats) override {
+    const shared::FrameData& centre = r.frameData();
+    // A point-like light has one sample point, the centre: one map, which is exactly sm's.
+    const std::uint32_t k = shared::isAreaLight(centre.light) ? std::max(r.settings().msmMaps, 1u) : 1u;
+    const Bounds bounds = r.scene().bounds();
+
+    // One FrameData per map; they must outlive the submission below.
+    std::vector<gpu::Buffer> frames;
+    std::vector<shared::ShadowMapInfo> infos;
+    frames.reserve(k);
+    for (std::uint32_t s = 0; s < k; ++s) {
+      shared::GpuLight point = centre.light;
+      point.position = glm::vec4(shared::lightSamplePoint(centre.light, 0u, s, k), 1.0f);
+      point.size = 0.0f;
+      shared::FrameData data = centre;
+      data.shadow = raster::makeShadowMapInfo(point, bounds, r.settings().shadowMap);
+      data.shadowFilter = FILTER_NONE;
+      frames.emplace_back(r.context(), sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "msm frame data");
+      frames.back().upload(std::span<const shared::FrameData>(&data, 1));
+      infos.push_back(data.shadow);
+      if (!maps_.contains(data.shadow.faceCount)) {
+        // Samples of one light can straddle the scene's bounding sphere: perspective and cube maps.
+        maps_[data.shadow.faceCount] =
+            std::make_unique<raster::ShadowMapPass>(r.context(), r.settings().shadowMap, data.shadow.faceCount);
+      }
+    }
+    std::uint64_t mapBytes = 0;
+    for (const auto& [faces, map] : maps_) mapBytes += map->depth().bytes();
+    stats.memoryBytes["shadow_map"] = mapBytes;
+
+    const bool timeEach = k <= kMaxTimedMaps;
+    const float weight = 1.0f / float(k);
+    r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      r.recordGBuffer(cmd);
+      if (!timeEach) r.timer().begin(cmd, "shadow_maps_and_lookups");
+      cmd.fillBuffer(r.visibility().handle(), 0, VK_WHOLE_SIZE, 0u);  // 0.0f: the lookups add to it
+      visibilityBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite);
+      for (std::uint32_t s = 0; s < k; ++s) {
+        const raster::ShadowMapPass& map = *maps_.at(infos[s].faceCount);
+        // Rendering map s+1 waits for lookup s's reads: recordLightFaces' first transition
+        // has all commands as its source stage.
+        if (timeEach) r.timer().begin(cmd, "shadow_map");
+        map.record(cmd, r.geometry(), infos[s]);
+        if (timeEach) r.timer().end(cmd);
+        if (timeEach) r.timer().begin(cmd, "lookup");
+        r.shadowLookup().record(cmd, r.gbuffer(), map, frames[s], r.visibility(), weight);
+        visibilityBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
+        if (timeEach) r.timer().end(cmd);
+      }
+      if (!timeEach) r.timer().end(cmd);
+    });
+  }
+
+ private:
+  // Made per frame (methods are): the pipeline creation counts in the frame's wall time, not in
+  // its GPU pass times.
+  std::map<std::uint32_t, std::unique_ptr<raster::ShadowMapPass>> maps_;  // by face count
+};
+
+}  // namespace
+
+std::unique_ptr<Method> makeMultiMapMethod() { return std::make_unique<MultiMapMethod>(); }
+
+}  // namespace penumbra

@@ -1,0 +1,50 @@
+#include "raster/depth_pyramid_pass.h"
+
+#include "depth_pyramid_comp.h"
+
+namespace penumbra::raster {
+namespace {
+
+constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eCombinedImageSampler},
+                                      {1, vk::DescriptorType::eCombinedImageSampler},
+                                      {2, vk::DescriptorType::eStorageBuffer}};
+
+// Levels until one tile covers the whole face.
+std::uint32_t levelCount(std::uint32_t resolution) {
+  std::uint32_t levels = 1;
+  while (shared::pyramidDim(resolution, levels) > 1 && levels < PYRAMID_MAX_LEVELS - 1) ++levels;
+  return levels;
+}
+
+vk::DeviceSize tileBytes(std::uint32_t resolution, std::uint32_t faceCount) {
+  const std::uint32_t levels = levelCount(resolution);
+  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * sizeof(glm::vec2);
+}
+
+}  // namespace
+
+DepthPyramidPass::DepthPyramidPass(const gpu::Context& context, std::uint32_t resolution, std::uint32_t faceCount)
+    : resolution_(resolution),
+      faceCount_(faceCount),
+      levels_(levelCount(resolution)),
+      tiles_(context, tileBytes(resolution, faceCount), vk::BufferUsageFlagBits::eStorageBuffer, "depth pyramid"),
+      pipeline_(context, depth_pyramid_comp, kBindings, sizeof(shared::PyramidPush), "depth pyramid pipeline") {}
+
+void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const gpu::Image* thinMask,
+                              vk::Sampler thinSampler, const shared::ShadowMapInfo& info, float deltaThreshold) const {
+  // Without a thin mask the binding still needs an image: the shadow map stands in, unread.
+  pipeline_.bind(cmd, gpu::Descriptors{}
+                          .sampledImage(0, shadowMap.depth().view(), shadowMap.sampler())
+                          .sampledImage(1, thinMask ? thinMask->view() : shadowMap.depth().view(),
+                                        thinMask ? thinSampler : shadowMap.sampler())
+                          .buffer(2, tiles_));
+  for (std::uint32_t level = 1; level <= levels_; ++level) {
+    pipeline_.pushConstants(cmd, shared::PyramidPush{level, resolution_, faceCount_, thinMask ? 1u : 0u, info.kind,
+                                                     info.nearPlane, info.farPlane, deltaThreshold});
+    const std::uint32_t dim = shared::pyramidDim(resolution_, level);
+    cmd.dispatch((dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, (dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, faceCount_);
+    gpu::computeToComputeAndHost(cmd);
+  }
+}
+
+}  // namespace penumbra::raster

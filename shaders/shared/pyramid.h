@@ -1,0 +1,35 @@
+// Edge pyramid over a light's faces (raster/depth_pyramid_pass), the penumbra mask's source: an
+// edge texel has a depth edge in its 3x3 neighbourhood (max |s - s'| > threshold, the same test
+// as for hard shadows) or a thin triangle on it; its blocker depth is the minimum depth there.
+// Level k >= 1 holds, per tile of 2^k x 2^k texels, (minimum blocker depth of its edge texels
+// (1 = none), maximum shadow-map depth), as raw NDC depths. One storage buffer: levels 1..count,
+// each faceCount * dim(k)^2 vec2s, face-major.
+#ifndef PENUMBRA_SHARED_PYRAMID_H
+#define PENUMBRA_SHARED_PYRAMID_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+#define PYRAMID_GROUP_SIZE 8
+#define PYRAMID_MAX_LEVELS 15
+
+PN_FN uint pyramidDim(uint resolution, uint level) { return (resolution + (1u << level) - 1u) >> level; }
+
+// Index of the first tile of `level` (>= 1) in the buffer.
+PN_FN uint pyramidOffset(uint resolution, uint faceCount, uint level) {
+  uint offset = 0u;
+  for (uint k = 1u; k < level; ++k) offset += faceCount * pyramidDim(resolution, k) * pyramidDim(resolution, k);
+  return offset;
+}
+
+struct PyramidPush {  // 32 bytes
+  uint level;       // the level this dispatch writes (>= 1)
+  uint resolution;  // of level 0
+  uint faceCount;
+  uint useThin;     // thin-triangle texels are edges too
+  uint kind;        // SHADOW_* of the map, for linear depths
+  float nearPlane, farPlane;
+  float deltaThreshold;  // linear depth edge threshold (as PipPush.deltaThreshold)
+};
+
+PN_END
+#endif
