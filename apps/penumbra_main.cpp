@@ -47,6 +47,9 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
       if (!frames[i].pip.empty()) {
         frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, frames[0].visibility,
                                                        frames[0].covered, frames[i].pip, threshold);
+        if (soft) {
+          frames[i].stats.penumbraMissFraction = penumbraMissFraction(frames[0].visibility, frames[0].covered, frames[i].pip);
+        }
       }
     }
   }

@@ -87,4 +87,18 @@ double missFraction(std::span<const float> approx, std::span<const float> refere
   return wrong ? double(missed) / double(wrong) : 0.0;
 }
 
+double penumbraMissFraction(std::span<const float> reference, std::span<const std::uint8_t> covered,
+                            std::span<const std::uint8_t> marked) {
+  if (covered.size() != reference.size() || marked.size() != reference.size()) {
+    throw std::invalid_argument("penumbraMissFraction: buffers differ in size");
+  }
+  std::uint64_t penumbra = 0, missed = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    if (!covered[i] || !(reference[i] > 0.0f && reference[i] < 1.0f)) continue;
+    ++penumbra;
+    missed += marked[i] == 0;
+  }
+  return penumbra ? double(missed) / double(penumbra) : 0.0;
+}
+
 }  // namespace penumbra

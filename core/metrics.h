@@ -27,6 +27,11 @@ ErrorMetrics compareVisibility(std::span<const float> test, std::span<const floa
 double missFraction(std::span<const float> approx, std::span<const float> reference, std::span<const std::uint8_t> covered,
                     std::span<const std::uint8_t> marked, float threshold);
 
+// Of the covered pixels in the reference's penumbra (0 < reference < 1), the fraction not `marked`
+// (0 when there is no penumbra).
+double penumbraMissFraction(std::span<const float> reference, std::span<const std::uint8_t> covered,
+                            std::span<const std::uint8_t> marked);
+
 // RGBA8 heatmap of |test - ref|: black (0) -> red -> yellow -> white (>= fullScale);
 // uncovered pixels dark blue-grey.
 std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<const float> reference,

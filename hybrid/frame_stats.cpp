@@ -32,6 +32,8 @@ nlohmann::json FrameStats::toJson() const {
           {"rays_traced", orNull(raysTraced)},
           {"pip_pixels", orNull(pipPixels)},
           {"pip_miss_fraction", orNull(pipMissFraction)},
+          {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
+          {"notes", notes},
           {"traversal", nodeVisits ? nlohmann::json{{"node_visits", *nodeVisits},
                                                     {"triangle_tests", orNull(triangleTests)},
                                                     {"node_visits_per_ray", raysTraced && *raysTraced ? double(*nodeVisits) / double(*raysTraced) : 0.0}}

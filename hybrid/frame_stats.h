@@ -21,6 +21,8 @@ struct FrameStats {
   std::optional<std::uint64_t> raysTraced;
   std::optional<std::uint64_t> pipPixels;       // pixels handed to the tracer
   std::optional<double> pipMissFraction;        // of the pixels sm gets wrong, those not traced (when compared)
+  std::optional<double> penumbraMissFraction;   // of the reference's penumbra pixels (0 < v < 1), those not traced
+  std::vector<std::string> notes;               // what a reader of the numbers should know
   std::optional<std::uint64_t> nodeVisits;      // traversal steps, where the tracer counts them
   std::optional<std::uint64_t> triangleTests;
   std::uint32_t samplesPerPixel = 1;    // light samples per traced pixel (1 for point-like lights)

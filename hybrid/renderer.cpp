@@ -165,6 +165,10 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
     std::uint64_t covered = 0;
     for (std::uint8_t c : frame.covered) covered += c;
     stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;
+    if (method->classifies() && shared::isAreaLight(frameData_.light) && *stats.pipFraction > 0.75) {
+      stats.notes.push_back("the penumbra mask covers " + std::to_string(int(100.0 * *stats.pipFraction)) +
+                            "% of covered pixels: srt traces nearly every pixel, i.e. costs frt plus the map passes");
+    }
   }
   if (method->classifies()) {
     const auto flags = traceFlags_.download<std::uint32_t>(positions.size());

@@ -178,6 +178,8 @@ TEST(SoftSelective, MatchesFullRayTracingForSmallMediumLargeLights) {
               << ", rays srt " << *r.srt.stats.raysTraced << " frt " << *r.frt.stats.raysTraced << "\n";
     EXPECT_LE(r.differ, 0.005) << "light size " << size;
     EXPECT_LT(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced) << "light size " << size;
+    // Every pixel in frt's penumbra was traced (same samples: frt is the reference here).
+    EXPECT_EQ(penumbraMissFraction(r.frt.visibility, r.frt.covered, r.srt.pip), 0.0) << "light size " << size;
   }
   expectValidationSilent();
 }
@@ -195,6 +197,8 @@ TEST(SoftSelective, HugeLightDegradesGracefullyToFullRayTracing) {
   const SoftRun r = softRun("builtin:courtyard", 1.5f);
   std::cout << "huge light: pip " << *r.srt.stats.pipFraction << ", differ " << r.differ << "\n";
   EXPECT_GT(*r.srt.stats.pipFraction, 0.5) << "a huge light puts most pixels in penumbra";
+  ASSERT_FALSE(r.srt.stats.notes.empty()) << "srt says it has become frt";
+  EXPECT_NE(r.srt.stats.notes.front().find("penumbra mask covers"), std::string::npos);
   EXPECT_LE(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced);
   EXPECT_LE(r.differ, 0.005);
   expectValidationSilent();
