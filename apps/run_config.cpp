@@ -188,7 +188,7 @@ void appendCsv(const std::string& path, const std::vector<Frame>& frames, const 
   const bool fresh = !std::filesystem::exists(path);
   std::ofstream out(path, std::ios::app);
   if (fresh) {
-    out << "scene,triangles,width,height,spp,method,tracer,total_ms,total_min_ms,total_max_ms,runs,pip_fraction,rays_traced,"
+    out << "scene,triangles,width,height,light_size,spp,method,tracer,total_ms,total_min_ms,total_max_ms,runs,pip_fraction,rays_traced,"
            "node_visits_per_ray,wrong_pixel_fraction,rmse,pip_miss_fraction,passes,cpu_threads,device,driver\n";
   }
   auto opt = [](const auto& v) { return v ? std::to_string(*v) : std::string(); };
@@ -197,7 +197,7 @@ void appendCsv(const std::string& path, const std::vector<Frame>& frames, const 
     std::string passes;
     for (const auto& [pass, ms] : s.passMs) passes += (passes.empty() ? "" : ";") + pass + "=" + std::to_string(ms);
     out << context["scene"].get<std::string>() << "," << context["triangles"] << "," << f.width << "," << f.height << ","
-        << s.samplesPerPixel << "," << s.method << "," << s.tracer.value_or("") << "," << s.totalMs << ","
+        << context["light_size"] << "," << s.samplesPerPixel << "," << s.method << "," << s.tracer.value_or("") << "," << s.totalMs << ","
         << (s.totalSpreadMs ? s.totalSpreadMs->minMs : s.totalMs) << "," << (s.totalSpreadMs ? s.totalSpreadMs->maxMs : s.totalMs)
         << "," << (s.totalSpreadMs ? s.totalSpreadMs->runs : 1) << "," << opt(s.pipFraction) << "," << opt(s.raysTraced) << ","
         << (s.nodeVisits && s.raysTraced && *s.raysTraced ? std::to_string(double(*s.nodeVisits) / double(*s.raysTraced)) : "")
