@@ -18,7 +18,7 @@ std::uint32_t levelCount(std::uint32_t resolution) {
 
 vk::DeviceSize tileBytes(std::uint32_t resolution, std::uint32_t faceCount) {
   const std::uint32_t levels = levelCount(resolution);
-  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * sizeof(glm::vec2);
+  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * sizeof(float);
 }
 
 }  // namespace

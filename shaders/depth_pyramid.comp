@@ -7,15 +7,15 @@
 layout(local_size_x = PYRAMID_GROUP_SIZE, local_size_y = PYRAMID_GROUP_SIZE) in;
 layout(binding = 0) uniform sampler2DArray shadowMap;
 layout(binding = 1) uniform sampler2DArray thinMask;
-layout(std430, binding = 2) buffer Pyramid { vec2 tiles[]; };
+layout(std430, binding = 2) buffer Pyramid { float tiles[]; };
 layout(push_constant) uniform PushBlock { PyramidPush push; };
 
 float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane, push.farPlane, z); }
 
-// (blocker depth if q is an edge texel else 1, depth) of texel q.
-vec2 edgeTexel(ivec2 q, uint face) {
+// The blocker depth of texel q if it is an edge texel, else 1.
+float edgeTexel(ivec2 q, uint face) {
   int res = int(push.resolution);
-  if (q.x >= res || q.y >= res) return vec2(1.0, 0.0);  // outside: neutral for min and max
+  if (q.x >= res || q.y >= res) return 1.0;  // outside: neutral for the minimum
   float depth = texelFetch(shadowMap, ivec3(q, int(face)), 0).r;
   float s = linearDepth(depth);
   float nearest = depth;
@@ -30,13 +30,13 @@ vec2 edgeTexel(ivec2 q, uint face) {
   }
   float blocker = delta > push.deltaThreshold ? nearest : 1.0;
   if (push.useThin != 0u) blocker = min(blocker, texelFetch(thinMask, ivec3(q, int(face)), 0).r);
-  return vec2(blocker, depth);
+  return blocker;
 }
 
-vec2 below(ivec2 q, uint face) {
+float below(ivec2 q, uint face) {
   if (push.level == 1u) return edgeTexel(q, face);
   uint dim = pyramidDim(push.resolution, push.level - 1u);
-  if (uint(q.x) >= dim || uint(q.y) >= dim) return vec2(1.0, 0.0);
+  if (uint(q.x) >= dim || uint(q.y) >= dim) return 1.0;
   uint base = pyramidOffset(push.resolution, push.faceCount, push.level - 1u);
   return tiles[base + (face * dim + uint(q.y)) * dim + uint(q.x)];
 }
@@ -46,7 +46,6 @@ void main() {
   uvec3 id = gl_GlobalInvocationID;
   if (id.x >= dim || id.y >= dim || id.z >= push.faceCount) return;
   ivec2 q = 2 * ivec2(id.xy);
-  vec2 a = below(q, id.z), b = below(q + ivec2(1, 0), id.z), c = below(q + ivec2(0, 1), id.z), d = below(q + ivec2(1, 1), id.z);
-  uint base = pyramidOffset(push.resolution, push.faceCount, push.level);
-  tiles[base + (id.z * dim + id.y) * dim + id.x] = vec2(min(min(a.x, b.x), min(c.x, d.x)), max(max(a.y, b.y), max(c.y, d.y)));
+  float nearest = min(min(below(q, id.z), below(q + ivec2(1, 0), id.z)), min(below(q + ivec2(0, 1), id.z), below(q + ivec2(1, 1), id.z)));
+  tiles[pyramidOffset(push.resolution, push.faceCount, push.level) + (id.z * dim + id.y) * dim + id.x] = nearest;
 }

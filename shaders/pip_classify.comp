@@ -12,7 +12,7 @@
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
 // extent scaled by (d - z)/z for an edge at depth z; computed here by gathering instead of
 // splatting: a pixel is in the mask iff a depth edge lies within reach R(z) = h (d - z) / (z d a)
-// texels (h: the light's half extent, a: a texel's angle), bounded with the min/max pyramid.
+// texels (h: the light's half extent, a: a texel's angle), bounded with the edge pyramid.
 // Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
@@ -28,7 +28,7 @@ layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
 layout(std430, binding = 7) writeonly buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
-layout(std430, binding = 9) readonly buffer Pyramid { vec2 tiles[]; };
+layout(std430, binding = 9) readonly buffer Pyramid { float tiles[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
 
 float linearDepth(float z) {
@@ -43,11 +43,10 @@ float axisDepthRate(vec4 clipDir) {
   return frame.shadow.kind == SHADOW_ORTHO ? clipDir.z * (frame.shadow.farPlane - frame.shadow.nearPlane) : clipDir.w;
 }
 
-// (min blocker depth, max depth) over the texels within `radius` of t on `face`: the smallest
-// pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
-// .z = 1 when the window leaves the face (a cube seam); .w = the distance in texels from t to the
-// farthest texel the tiles cover (the window actually tested).
-vec4 windowMinMax(ivec2 t, float radius, uint face) {
+// The nearest blocker depth of the edge texels within `radius` of t on `face` (1 = none): the
+// smallest pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
+// .y = 1 when the window leaves the face (a cube seam).
+vec2 nearestEdge(ivec2 t, float radius, uint face) {
   int res = int(frame.shadow.resolution);
   int r = int(ceil(radius));
   ivec2 lo = t - ivec2(r), hi = t + ivec2(r);
@@ -58,16 +57,11 @@ vec4 windowMinMax(ivec2 t, float radius, uint face) {
   while (level < push.pyramidLevels && any(greaterThan((hi >> level) - (lo >> level), ivec2(3)))) ++level;
   uint dim = pyramidDim(frame.shadow.resolution, level);
   uint base = pyramidOffset(frame.shadow.resolution, frame.shadow.faceCount, level);
-  vec2 result = vec2(1.0, 0.0);
+  float nearest = 1.0;
   for (int y = lo.y >> level; y <= (hi.y >> level); ++y) {
-    for (int x = lo.x >> level; x <= (hi.x >> level); ++x) {
-      vec2 tile = tiles[base + (face * dim + uint(y)) * dim + uint(x)];
-      result = vec2(min(result.x, tile.x), max(result.y, tile.y));
-    }
+    for (int x = lo.x >> level; x <= (hi.x >> level); ++x) nearest = min(nearest, tiles[base + (face * dim + uint(y)) * dim + uint(x)]);
   }
-  ivec2 coveredLo = (lo >> level) << level, coveredHi = (((hi >> level) + 1) << level) - 1;
-  vec2 extent = vec2(max(t - coveredLo, coveredHi - t));
-  return vec4(result, seam, length(extent));
+  return vec2(nearest, seam);
 }
 
 void write(uint index, float vis, uint flags, float maxDistance) {
@@ -147,16 +141,16 @@ void main() {
     float zNear = frame.shadow.nearPlane;
     // Reach for blockers no closer than z, plus 1.5 texels for rasterization.
     float reachNear = min(halfExtent * (d - zNear) / (zNear * d * alpha) + 1.5, float(res));
-    vec4 wide = windowMinMax(t, reachNear, face);
+    vec2 wide = nearestEdge(t, reachNear, face);
     float z1 = max(linearDepth(wide.x), zNear);
     float reach = min(halfExtent * max(d - z1, 0.0) / (z1 * d * alpha) + 1.5, float(res));
-    vec4 window = windowMinMax(t, reach, face);
+    vec2 window = nearestEdge(t, reach, face);
     // In the mask iff an edge texel nearer to the light than the receiver lies within reach (its
     // splat covers the pixel); outside it the centre map's lit/umbra answer stands.
     bool edgeInReach = linearDepth(window.x) < d - push.depthMargin;
     bool straddles = facing < halfExtent;  // part of the light below the tangent plane
     uint softFlags = flags & PIP_THIN;
-    if (straddles || (window.z > 0.0 && kind == SHADOW_CUBE) || edgeInReach) softFlags |= PIP_PENUMBRA;
+    if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach) softFlags |= PIP_PENUMBRA;
     float answer = vis;
     write(index, answer, softFlags, 0.0);
     return;
