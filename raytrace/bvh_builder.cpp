@@ -1,4 +1,5 @@
 #include "raytrace/bvh_builder.h"
+#include "raytrace/embree_handles.h"
 
 #include <embree3/rtcore.h>
 
@@ -14,14 +15,8 @@
 namespace penumbra {
 namespace {
 
-struct DeviceRelease {
-  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-};
-struct BvhRelease {
-  void operator()(RTCBVH b) const { rtcReleaseBVH(b); }
-};
-using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceRelease>;
-using EmbreeBvhPtr = std::unique_ptr<RTCBVHTy, BvhRelease>;
+using embree::DevicePtr;
+using EmbreeBvhPtr = embree::BvhPtr;
 
 // The builder's own tree, allocated by Embree's thread-local allocator and freed with the RTCBVH.
 struct BuildNode {

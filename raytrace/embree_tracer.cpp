@@ -12,37 +12,17 @@
 
 #include <embree3/rtcore.h>
 
+#include "raytrace/embree_handles.h"
 #include "shared/frame.h"
 #include "shared/trace.h"
 
 namespace penumbra {
 namespace {
 
-const char* errorName(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
-  }
-  return "unrecognised error";
-}
-
-struct DeviceRelease {
-  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-};
-struct SceneRelease {
-  void operator()(RTCScene s) const { rtcReleaseScene(s); }
-};
-struct GeometryRelease {
-  void operator()(RTCGeometry g) const { rtcReleaseGeometry(g); }
-};
-using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceRelease>;
-using ScenePtr = std::unique_ptr<RTCSceneTy, SceneRelease>;
-using GeometryPtr = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
+using embree::DevicePtr;
+using embree::errorName;
+using embree::GeometryPtr;
+using embree::ScenePtr;
 
 constexpr std::size_t kBlock = 256;  // points (or pixels) handed to a worker at a time
 
