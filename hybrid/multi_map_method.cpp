@@ -42,21 +42,19 @@ class MultiMapMethod final : public Method {
     const shared::FrameData& centre = r.frameData();
     // A point-like light has one sample point, the centre: one map, which is exactly sm's.
     const std::uint32_t k = shared::isAreaLight(centre.light) ? std::max(r.settings().msmMaps, 1u) : 1u;
-    const Bounds bounds = r.scene().bounds();
-
-    // One FrameData per map; they must outlive the submission below.
-    std::vector<gpu::Buffer> frames;
+    // One FrameData per map, kept across frames and rewritten.
+    while (frames_.size() < k) {
+      frames_.emplace_back(r.context(), sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "msm frame data");
+    }
     std::vector<shared::ShadowMapInfo> infos;
-    frames.reserve(k);
     for (std::uint32_t s = 0; s < k; ++s) {
       shared::GpuLight point = centre.light;
       point.position = glm::vec4(shared::lightSamplePoint(centre.light, 0u, s, k), 1.0f);
       point.size = 0.0f;
       shared::FrameData data = centre;
-      data.shadow = raster::makeShadowMapInfo(point, bounds, r.settings().shadowMap);
+      data.shadow = raster::makeShadowMapInfo(point, r.bounds(), r.settings().shadowMap);
       data.shadowFilter = FILTER_NONE;
-      frames.emplace_back(r.context(), sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "msm frame data");
-      frames.back().upload(std::span<const shared::FrameData>(&data, 1));
+      frames_[s].upload(std::span<const shared::FrameData>(&data, 1));
       infos.push_back(data.shadow);
       if (!maps_.contains(data.shadow.faceCount)) {
         // Samples of one light can straddle the scene's bounding sphere: perspective and cube maps.
@@ -83,7 +81,7 @@ class MultiMapMethod final : public Method {
         map.record(cmd, r.geometry(), infos[s]);
         if (timeEach) r.timer().end(cmd);
         if (timeEach) r.timer().begin(cmd, "lookup");
-        r.shadowLookup().record(cmd, r.gbuffer(), map, frames[s], r.visibility(), weight);
+        r.shadowLookup().record(cmd, r.gbuffer(), map, frames_[s], r.visibility(), weight);
         visibilityBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
         if (timeEach) r.timer().end(cmd);
       }
@@ -92,9 +90,9 @@ class MultiMapMethod final : public Method {
   }
 
  private:
-  // Made per frame (methods are): the pipeline creation counts in the frame's wall time, not in
-  // its GPU pass times.
+  // Kept across frames (the Renderer keeps its methods): made once per face count.
   std::map<std::uint32_t, std::unique_ptr<raster::ShadowMapPass>> maps_;  // by face count
+  std::vector<gpu::Buffer> frames_;
 };
 
 }  // namespace

@@ -37,6 +37,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
               vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
       timer_(context) {}
 
+Renderer::~Renderer() = default;
+
 const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
   stats.setupMs["embree_build"] = embree_->buildMs();  // one-time, reported with every frame that uses it
@@ -134,7 +136,9 @@ void Renderer::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& s
 }
 
 Frame Renderer::render(const std::string& methodName, const Camera& camera, const Light& light) {
-  std::unique_ptr<Method> method = makeMethod(methodName);
+  std::unique_ptr<Method>& cached = methods_[methodName];
+  if (!cached) cached = makeMethod(methodName);
+  Method* method = cached.get();
   prepareFrame(camera, light, method->shadowFilter(settings_), method->samplesPerPixel(settings_));
 
   Frame frame;

@@ -3,6 +3,7 @@
 // use), and the frame's buffers. render() runs one method and the shared shading pass.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@
 #include "shared/frame.h"
 
 namespace penumbra {
+
+class Method;
 
 struct RenderSettings {
   std::uint32_t width = 256;
@@ -52,11 +55,13 @@ struct Frame {
 class Renderer {
  public:
   Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
+  ~Renderer();  // out of line: Method is incomplete here
   Frame render(const std::string& method, const Camera& camera, const Light& light);
 
   // For methods, valid during render():
   const gpu::Context& context() const { return context_; }
   const Scene& scene() const { return scene_; }
+  const Bounds& bounds() const { return bounds_; }
   const RenderSettings& settings() const { return settings_; }
   const shared::FrameData& frameData() const { return frameData_; }
   const gpu::Buffer& frameBuffer() const { return frameBuffer_; }
@@ -97,6 +102,7 @@ class Renderer {
   ShadePass shade_;
   raster::PipClassifyPass classify_;
   CompactPass compact_;
+  std::map<std::string, std::unique_ptr<Method>> methods_;  // one per name, kept: they may own GPU objects
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   std::unique_ptr<raster::ThinTrianglePass> thin_;
   std::unique_ptr<raster::DepthPyramidPass> pyramid_;
