@@ -4,22 +4,11 @@
 # on each tracer. Release build; each method warms up once, then the median of REPEAT frames.
 # Writes bench/results/hard_shadows.csv (one row per method and run, with machine, driver and
 # device) and prints where the per-run outputs are.
-set -euo pipefail
-cd "$(dirname "$0")/.."
-source scripts/env.sh
 REPEAT=${REPEAT:-5}
-RES=${RES:-1024x1024}
-csv=bench/results/hard_shadows.csv
-rm -f "$csv"
-[ -x build/bin/penumbra ] || bash scripts/build.sh
+source "$(dirname "$0")/lib.sh" hard_shadows
 for level in 11 27 64; do
   for tracer in bvh embree; do
-    out=$(mktemp -d)
-    echo "== courtyard:$level tracer=$tracer"
-    ./build/bin/penumbra compare --scene "builtin:courtyard:$level" --methods sm,srt,frt --tracer "$tracer" \
-      --res "$RES" --warmup 1 --repeat "$REPEAT" --csv "$csv" --out "$out" | tail -n 5
-    rm -rf "$out"
+    bench_compare "courtyard:$level tracer=$tracer" --scene "builtin:courtyard:$level" --methods sm,srt,frt --tracer "$tracer"
   done
 done
-echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m)" | tee bench/results/hard_shadows.machine.txt
-echo "wrote $csv"
+bench_done
