@@ -42,12 +42,15 @@ void requireFinite(float value, const char* option) {
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating.
 std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
-  // Worst case a cube, twice: msm renders its sample maps into a map of its own.
-  const std::uint64_t shadowMap = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4 * 6 * 2;
+  const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
+  // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map).
+  const std::uint64_t lightMaps = face * 6 * 3 + face * 6 / 3;
   const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4) * 2;  // images + readbacks
-  const std::uint64_t frame = pixels * (4 + 4 + 32);            // visibility, colour, shading points
-  const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36);
-  return shadowMap + gbuffer + frame + geometry;
+  // visibility, colour, sm visibility, trace flags, ray max, and the compacted ShadingPoints
+  const std::uint64_t frame = pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
+  // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)
+  const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36 + 48 + 64);
+  return lightMaps + gbuffer + frame + geometry;
 }
 
 std::uint64_t physicalMemoryBytes() {
