@@ -43,8 +43,10 @@ void requireFinite(float value, const char* option) {
 std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
   const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
-  // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map).
-  const std::uint64_t lightMaps = face * 6 * 3 + face * 6 / 3;
+  // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map);
+  // the corner maps (--penumbra-maps 5) add one more map and pyramid.
+  const std::uint64_t maps = s.pip.penumbraMaps == 5 ? 4 : 3;
+  const std::uint64_t lightMaps = face * 6 * maps + face * 6 / 3 * (maps - 2);
   const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4) * 2;  // images + readbacks
   // visibility, colour, sm visibility, trace flags, ray max, and the compacted ShadingPoints
   const std::uint64_t frame = pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
@@ -81,6 +83,8 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->capture_default_str()->check(CLI::IsMember({"bvh", "embree"}));
   app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
   app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
+  app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
+      ->capture_default_str()->check(CLI::IsMember({1u, 5u}));
   app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
   app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
   app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
@@ -152,7 +156,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.msmMaps = c.msmMaps;
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
-  s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on"};
+  s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 
@@ -181,7 +185,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
-                   {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}}},
+                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}}},
           {"warnings", s.scene.warnings},
           {"device", context.deviceName()},
           {"driver", context.driverInfo()}};

@@ -31,6 +31,7 @@ struct RunConfig {
   std::string tracer = "bvh";
   float pipDelta = 0.002f, pipMargin = 1.0f;
   bool noThin = false;
+  std::uint32_t penumbraMaps = 1;  // area lights: 1 or 5 shadow maps for the penumbra mask
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";
   bool validate = false;

@@ -82,10 +82,17 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     pyramid_->record(cmd, *shadowMap_, thinMask, thinSampler, frameData_.shadow, push.deltaThreshold);
     timer_.end(cmd);
   }
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_};
   timer_.begin(cmd, "classify");
-  classify_.record(cmd, gbuffer_, *shadowMap_, thinMask, thinSampler, *pyramid_, frameBuffer_,
-                   {visibility_, smVisibility_, traceFlags_, rayMax_}, push);
+  classify_.record(cmd, gbuffer_, *shadowMap_, thinMask, thinSampler, *pyramid_, frameBuffer_, out, push);
   timer_.end(cmd);
+  if (shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5) {
+    if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);
+    timer_.begin(cmd, "corner_maps");
+    cornerMaps_->record(cmd, geometry_, gbuffer_, classify_, frameData_, bounds_, out, settings_.pip);
+    timer_.end(cmd);
+    stats.memoryBytes["corner_maps"] = cornerMaps_->bytes();
+  }
 }
 
 void Renderer::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode) {

@@ -14,6 +14,7 @@
 #include "hybrid/compact_pass.h"
 #include "hybrid/frame_stats.h"
 #include "hybrid/shade_pass.h"
+#include "raster/corner_maps_pass.h"
 #include "raster/gbuffer_pass.h"
 #include "raster/pip_classify_pass.h"
 #include "raster/shadow_lookup_pass.h"
@@ -82,7 +83,8 @@ class Renderer {
   void recordGBuffer(const vk::raii::CommandBuffer& cmd);
   // Records the light pass with its timer scope (making the map for this light if needed).
   void recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
-  // Thin-triangle mask (when settings().pip.thinPass), then PIP classification, with timer scopes.
+  // Thin-triangle mask (when settings().pip.thinPass), then PIP classification (and the corner
+  // maps' additions to the penumbra mask with --penumbra-maps 5), with timer scopes.
   void recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
   // Dense list of the pixels to trace: flagged ones (COMPACT_FLAGGED) or all covered ones.
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
@@ -106,6 +108,7 @@ class Renderer {
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   std::unique_ptr<raster::ThinTrianglePass> thin_;
   std::unique_ptr<raster::DepthPyramidPass> pyramid_;
+  std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
   std::unique_ptr<EmbreeTracer> embree_;
   std::unique_ptr<BvhTracer> bvh_;
   gpu::Buffer frameBuffer_, visibility_, color_;

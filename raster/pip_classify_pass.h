@@ -15,6 +15,7 @@ struct PipSettings {
   float marginTexels = 1.0f;      // receiver depth interval widened by this many texel sizes
   bool thinPass = true;           // use the thin-triangle mask
   bool rayIntervals = false;      // bound hard-shadow rays by the neighbourhood's blocker depth
+  std::uint32_t penumbraMaps = 1; // area lights: 1 = the centre's map, 5 = also the four corners' maps
 };
 
 // Per-pixel outputs the classification writes and compaction reads.

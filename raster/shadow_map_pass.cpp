@@ -28,7 +28,8 @@ constexpr float kMaxSingleFaceFov = glm::radians(120.0f);
 
 }  // namespace
 
-shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings) {
+shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings,
+                                        bool forceCube) {
   shared::ShadowMapInfo info{};
   const glm::vec3 centre = bounds.center();
   const float radius = std::max(bounds.radius(), 1e-6f) * 1.01f;
@@ -64,7 +65,7 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
       forward = glm::normalize(glm::vec3(light.direction));
     }
   }
-  if (2.0f * halfFov < kMaxSingleFaceFov) {
+  if (2.0f * halfFov < kMaxSingleFaceFov && !forceCube) {
     info.nearPlane = std::max(distance - radius, farPlane * 1e-4f);
     info.farPlane = farPlane;
     info.kind = SHADOW_PERSPECTIVE;

@@ -20,8 +20,10 @@ struct ShadowMapSettings {
   float normalOffsetTexels = 0.75f;
 };
 
-// Projection(s) for `light` covering `bounds`; pure math, no GPU.
-shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings);
+// Projection(s) for `light` covering `bounds`; pure math, no GPU. forceCube: six faces even where
+// one would do (maps that must share one image layout).
+shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings,
+                                        bool forceCube = false);
 
 class ShadowMapPass {
  public:

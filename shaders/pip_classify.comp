@@ -10,10 +10,13 @@
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
-// extent scaled by (d - z)/z for an edge at depth z; computed here by gathering instead of
-// splatting: a pixel is in the mask iff a depth edge lies within reach R(z) = h (d - z) / (z d a)
-// texels (h: the light's half extent, a: a texel's angle), bounded with the edge pyramid.
+// shape scaled by the edge's depth relative to the receiver; computed here by gathering instead of
+// splatting: a pixel is in the mask iff an edge texel nearer than the receiver lies where its
+// splat covers the pixel, i.e. on a segment from the pixel's point to the light (splatWindow),
+// searched with the edge pyramid.
 // Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge).
+// With --penumbra-maps 5 the pass runs again on maps from the light's four corners, each adding
+// its edges' splats to the mask (cornerUnion).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/pip.h"
@@ -26,7 +29,7 @@ layout(binding = 3) uniform sampler2DArray thinMask;
 layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
-layout(std430, binding = 7) writeonly buffer TraceFlags { uint traceFlags[]; };
+layout(std430, binding = 7) buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
 layout(std430, binding = 9) readonly buffer Pyramid { float tiles[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
@@ -43,13 +46,11 @@ float axisDepthRate(vec4 clipDir) {
   return frame.shadow.kind == SHADOW_ORTHO ? clipDir.z * (frame.shadow.farPlane - frame.shadow.nearPlane) : clipDir.w;
 }
 
-// The nearest blocker depth of the edge texels within `radius` of t on `face` (1 = none): the
-// smallest pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
+// The nearest blocker depth of the edge texels in the texel window [lo, hi] on `face` (1 = none):
+// the smallest pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
 // .y = 1 when the window leaves the face (a cube seam).
-vec2 nearestEdge(ivec2 t, float radius, uint face) {
+vec2 nearestEdgeIn(ivec2 lo, ivec2 hi, uint face) {
   int res = int(frame.shadow.resolution);
-  int r = int(ceil(radius));
-  ivec2 lo = t - ivec2(r), hi = t + ivec2(r);
   float seam = any(lessThan(lo, ivec2(0))) || any(greaterThanEqual(hi, ivec2(res))) ? 1.0 : 0.0;
   lo = clamp(lo, ivec2(0), ivec2(res - 1));
   hi = clamp(hi, ivec2(0), ivec2(res - 1));
@@ -64,6 +65,53 @@ vec2 nearestEdge(ivec2 t, float radius, uint face) {
   return vec2(nearest, seam);
 }
 
+vec2 nearestEdge(ivec2 t, float radius, uint face) {
+  int r = int(ceil(radius));
+  return nearestEdgeIn(t - ivec2(r), t + ivec2(r), face);
+}
+
+// The penumbra mask's window on this map: the texels where an edge no closer to the light than z can lie and
+// still hide part of the light from p (depth d). Such an edge is on a segment from p to a light
+// point at depth >= z; the segments to the light's corners (a disk's bounding square) at depth z
+// project, with p's texel, to a convex hull whose bounding box is returned (+1.5 texels).
+// .z = 1 when a corner lies behind the map's eye (the window is unbounded).
+vec3 splatWindow(vec3 p, mat4 viewProj, ivec2 t, float d, float z, out ivec2 lo, out ivec2 hi) {
+  vec3 tan1 = frame.light.tangent.xyz;
+  vec3 tan2 = cross(frame.light.direction.xyz, tan1);
+  float h = 0.5 * frame.light.size;
+  vec2 a = vec2(t), b = vec2(t);
+  float res = float(frame.shadow.resolution);
+  for (int j = 0; j < 4; ++j) {
+    vec3 q = frame.light.position.xyz + h * ((j & 1) != 0 ? tan1 : -tan1) + h * ((j & 2) != 0 ? tan2 : -tan2);
+    float dq = axisDepth(viewProj * vec4(q, 1.0));
+    float s = d > dq ? clamp((d - z) / (d - dq), 0.0, 1.0) : 1.0;
+    vec4 c = viewProj * vec4(mix(p, q, s), 1.0);
+    if (c.w <= 1e-6 * d) return vec3(0.0, 0.0, 1.0);
+    vec2 e = (c.xy / c.w * 0.5 + 0.5) * res;
+    a = min(a, e);
+    b = max(b, e);
+  }
+  lo = ivec2(floor(a - 1.5));
+  hi = ivec2(ceil(b + 1.5));
+  return vec3(0.0);
+}
+
+// Area lights: .x = 1 when an edge texel nearer to the light than the receiver p (depth d, texel
+// t) lies in its splat window, i.e. the edge's splat covers the pixel; .y = 1 when the window
+// leaves the face. The first window assumes the nearest possible edge; the nearest edge found in
+// it bounds the second.
+vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
+  ivec2 lo, hi;
+  float zNear = frame.shadow.nearPlane;
+  if (splatWindow(p, viewProj, t, d, zNear, lo, hi).z > 0.0) return vec2(1.0, 1.0);
+  vec2 wide = nearestEdgeIn(lo, hi, face);
+  float z1 = max(linearDepth(wide.x), zNear);
+  if (z1 >= d - push.depthMargin) return vec2(0.0, wide.y);
+  if (splatWindow(p, viewProj, t, d, z1, lo, hi).z > 0.0) return vec2(1.0, 1.0);
+  vec2 window = nearestEdgeIn(lo, hi, face);
+  return vec2(linearDepth(window.x) < d - push.depthMargin ? 1.0 : 0.0, window.y);
+}
+
 void write(uint index, float vis, uint flags, float maxDistance) {
   visibility[index] = vis;
   smVisibility[index] = vis;
@@ -76,7 +124,12 @@ void main() {
   if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
   vec4 position = imageLoad(gPosition, pix);
-  if (position.w == 0.0) { write(index, 1.0, 0u, 0.0); return; }
+  // A corner map (--penumbra-maps 5) only adds its edges' splats to the centre pass's mask.
+  bool corner = push.cornerUnion != 0u;
+  if (position.w == 0.0) {
+    if (!corner) write(index, 1.0, 0u, 0.0);
+    return;
+  }
   vec3 p = position.xyz;
   vec3 n = imageLoad(gNormal, pix).xyz;
   GpuLight light = frame.light;
@@ -86,7 +139,7 @@ void main() {
   if (!lightReaches(light, p, n, light.position.xyz)) {
     // An area light may still be partly above the receiver's tangent plane: trace those.
     bool partly = area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
-    write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0);
+    if (!corner) write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0);
     return;
   }
 
@@ -99,11 +152,16 @@ void main() {
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
-    write(index, 1.0, PIP_OUTSIDE, 0.0);
+    if (!corner) write(index, 1.0, PIP_OUTSIDE, 0.0);
     return;
   }
   int res = int(frame.shadow.resolution);
   ivec2 t = ivec2(floor(uv * float(res)));
+  if (corner) {
+    vec2 window = edgeWithinReach(offsetP, viewProj, t, face, linearDepth(ndc.z));
+    if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) traceFlags[index] |= PIP_PENUMBRA;
+    return;
+  }
   float raw = texelFetch(shadowMap, ivec3(clamp(t, ivec2(0), ivec2(res - 1)), int(face)), 0).r;
   float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
 
@@ -134,20 +192,10 @@ void main() {
 
   float d = linearDepth(ndc.z);
   if (area) {
-    // A texel's angle at p (texelWorld is its size at unit distance on the face's axis).
-    float dist = length(p - frame.shadow.lightPosition.xyz);
-    float cosAxis = axisDepth(clip) / dist;
-    float alpha = frame.shadow.texelWorld * cosAxis * cosAxis;
-    float zNear = frame.shadow.nearPlane;
-    // Reach for blockers no closer than z, plus 1.5 texels for rasterization.
-    float reachNear = min(halfExtent * (d - zNear) / (zNear * d * alpha) + 1.5, float(res));
-    vec2 wide = nearestEdge(t, reachNear, face);
-    float z1 = max(linearDepth(wide.x), zNear);
-    float reach = min(halfExtent * max(d - z1, 0.0) / (z1 * d * alpha) + 1.5, float(res));
-    vec2 window = nearestEdge(t, reach, face);
-    // In the mask iff an edge texel nearer to the light than the receiver lies within reach (its
-    // splat covers the pixel); outside it the centre map's lit/umbra answer stands.
-    bool edgeInReach = linearDepth(window.x) < d - push.depthMargin;
+    // In the mask iff an edge texel's splat covers the pixel; outside it the centre map's
+    // lit/umbra answer stands.
+    vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
+    bool edgeInReach = window.x > 0.0;
     bool straddles = facing < halfExtent;  // part of the light below the tangent plane
     uint softFlags = flags & PIP_THIN;
     if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach) softFlags |= PIP_PENUMBRA;

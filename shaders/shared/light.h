@@ -90,6 +90,19 @@ PN_FN bool lightReaches(GpuLight light, vec3 p, vec3 n, vec3 q) {
   return true;
 }
 
+// Corner i (0..3) of a rect light; for a disk the rim points on its two axes. The maps from these
+// points (--penumbra-maps 5) see edges the centre's map may hide.
+PN_FN vec3 lightCorner(GpuLight light, uint i) {
+  vec3 t = vec3(light.tangent);
+  vec3 b = cross(vec3(light.direction), t);
+  float h = 0.5f * light.size;
+  if (light.type == LIGHT_RECT) {
+    return vec3(light.position) + h * ((i & 1u) != 0u ? t : -t) + h * ((i & 2u) != 0u ? b : -b);
+  }
+  vec3 axis = (i & 1u) != 0u ? b : t;
+  return vec3(light.position) + ((i & 2u) != 0u ? h : -h) * axis;
+}
+
 // Number of light samples a shading point uses: spp for area lights, one otherwise.
 PN_FN uint lightSampleCount(GpuLight light, uint spp) { return isAreaLight(light) ? max(spp, 1u) : 1u; }
 

@@ -20,7 +20,8 @@ struct PipPush {  // 32 bytes
   uint useThin;          // test the thin-triangle mask
   uint useIntervals;     // write ray intervals (hard shadows only)
   uint pyramidLevels;    // levels of the depth pyramid (area lights)
-  uint pad1, pad2, pad3;
+  uint cornerUnion;      // 1: a corner map's dispatch, which only ORs PIP_PENUMBRA into the flags
+  uint pad2, pad3;
 };
 
 PN_END
