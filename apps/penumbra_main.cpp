@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/run_config.h"
+#include "core/image_io.h"
 #include "core/metrics.h"
 #include "hybrid/frame_output.h"
 #include "hybrid/method.h"
@@ -41,9 +42,12 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   const bool soft = setup.light.size > 0.0f;
   const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
   const float heatmapScale = soft ? 0.25f : 1.0f;
+  std::vector<std::vector<float>> flipMaps(frames.size());  // per method: FLIP of its image vs the reference's
   if (compare) {
     for (std::size_t i = 1; i < frames.size(); ++i) {
       frames[i].stats.error = compareVisibility(frames[i].visibility, frames[0].visibility, frames[0].covered, threshold);
+      frames[i].stats.imageError = compareImages(frames[i].rgba, frames[0].rgba, frames[0].covered, frames[i].width,
+                                                 frames[i].height, &flipMaps[i]);
       if (!frames[i].pip.empty()) {
         frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, frames[0].visibility,
                                                        frames[0].covered, frames[i].pip, threshold);
@@ -61,8 +65,11 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
     nlohmann::json metrics{{"scene", context_json}, {"reference", frames[0].stats.toJson()}, {"methods", nlohmann::json::array()}};
     metrics["scene"]["wrong_pixel_threshold"] = threshold;
     metrics["scene"]["heatmap_full_scale"] = heatmapScale;
+    metrics["scene"]["flip_pixels_per_degree"] = FlipSettings{}.pixelsPerDegree;
     for (std::size_t i = 1; i < frames.size(); ++i) {
       writeHeatmap(config.outDir, frames[i], frames[0], heatmapScale);
+      writePngRgba8(config.outDir + "/" + frames[i].stats.method + ".flip.png", int(frames[i].width),
+                    int(frames[i].height), flipHeatmap(flipMaps[i], frames[0].covered));
       metrics["methods"].push_back(frames[i].stats.toJson());
     }
     writeJson(config.outDir + "/metrics.json", metrics);

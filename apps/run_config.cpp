@@ -86,6 +86,8 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
       ->capture_default_str()->check(CLI::IsMember({1u, 5u}));
   app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
+  app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
+               "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
   app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
   app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
   app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
@@ -157,6 +159,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
+  s.settings.simulateBandwidth = c.simulateBandwidth;
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 

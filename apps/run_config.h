@@ -35,6 +35,7 @@ struct RunConfig {
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";
   bool validate = false;
+  bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
   std::string outDir = "out";
 };
 

@@ -44,6 +44,44 @@ ErrorMetrics compareVisibility(std::span<const float> test, std::span<const floa
   m.rmse = std::sqrt(sumSq / n);
   m.mae = sumAbs / n;
   m.wrongPixelFraction = double(wrong) / n;
+  m.psnr = psnrFromMse(sumSq / n);
+  return m;
+}
+
+double psnrFromMse(double mse, double peak) {
+  if (!(mse > 0.0)) return std::numeric_limits<double>::infinity();
+  return 10.0 * std::log10(peak * peak / mse);
+}
+
+ImageErrorMetrics compareImages(std::span<const std::uint8_t> test, std::span<const std::uint8_t> reference,
+                                std::span<const std::uint8_t> covered, std::uint32_t width, std::uint32_t height,
+                                std::vector<float>* flip, const FlipSettings& flipSettings) {
+  const std::size_t pixels = std::size_t(width) * height;
+  if (test.size() != 4 * pixels || reference.size() != 4 * pixels || covered.size() != pixels) {
+    throw std::invalid_argument("compareImages: sizes differ from " + std::to_string(width) + "x" +
+                                std::to_string(height) + " (test " + std::to_string(test.size()) + " bytes, reference " +
+                                std::to_string(reference.size()) + " bytes, covered " + std::to_string(covered.size()) + ")");
+  }
+  ImageErrorMetrics m;
+  double sumSq = 0.0, sumAbs = 0.0;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    if (covered[i] == 0) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double d = std::abs(double(test[4 * i + c]) - double(reference[4 * i + c])) / 255.0;
+      sumSq += d * d;
+      sumAbs += d;
+      m.max = std::max(m.max, d);
+    }
+    ++m.pixels;
+  }
+  std::vector<float> map = flipMap(test, reference, width, height, flipSettings);
+  m.flipMean = flipMean(map, covered);
+  if (flip) *flip = std::move(map);
+  if (m.pixels == 0) return m;
+  const double samples = 3.0 * double(m.pixels);
+  m.rmse = std::sqrt(sumSq / samples);
+  m.mae = sumAbs / samples;
+  m.psnr = psnrFromMse(sumSq / samples);
   return m;
 }
 

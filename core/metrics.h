@@ -1,8 +1,12 @@
-// Error between two visibility buffers (fraction of light visible per pixel), over covered pixels.
+// Error between two visibility buffers (fraction of light visible per pixel) and between two
+// shaded images, over covered pixels.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
+
+#include "core/flip.h"
 
 namespace penumbra {
 
@@ -11,8 +15,26 @@ struct ErrorMetrics {
   double mae = 0.0;
   double max = 0.0;
   double wrongPixelFraction = 0.0;  // fraction of covered pixels with |test - ref| > threshold
-  std::uint64_t pixels = 0;         // covered pixels compared
+  // 10 log10(peak^2 / MSE) with peak 1 (visibility is in [0,1]); +infinity when the buffers agree
+  // on every covered pixel (or none is covered), written as null in JSON.
+  double psnr = std::numeric_limits<double>::infinity();
+  std::uint64_t pixels = 0;  // covered pixels compared
 };
+
+// Between two shaded RGBA8 sRGB images: rmse, mae, max and psnr over the R, G and B channels of
+// covered pixels, on the encoded values scaled to [0,1] (peak 1; +infinity when identical), and the
+// mean FLIP (core/flip.h) over covered pixels.
+struct ImageErrorMetrics {
+  double rmse = 0.0;
+  double mae = 0.0;
+  double max = 0.0;
+  double psnr = std::numeric_limits<double>::infinity();
+  double flipMean = 0.0;
+  std::uint64_t pixels = 0;
+};
+
+// PSNR in dB of a mean squared error for signals with the given peak: +infinity for mse 0.
+double psnrFromMse(double mse, double peak = 1.0);
 
 // Threshold for wrongPixelFraction: 0.5 for hard shadows, 0.05 for soft ones.
 inline constexpr float kWrongThresholdHard = 0.5f;
@@ -21,6 +43,12 @@ inline constexpr float kWrongThresholdSoft = 0.05f;
 // covered[i] != 0 marks pixel i as covered by geometry. All spans have the same size.
 ErrorMetrics compareVisibility(std::span<const float> test, std::span<const float> reference,
                                std::span<const std::uint8_t> covered, float wrongThreshold);
+
+// test, reference: width*height*4 bytes; covered: width*height. `flip`, when given, receives the
+// per-pixel FLIP map. Throws std::invalid_argument for mismatched sizes.
+ImageErrorMetrics compareImages(std::span<const std::uint8_t> test, std::span<const std::uint8_t> reference,
+                                std::span<const std::uint8_t> covered, std::uint32_t width, std::uint32_t height,
+                                std::vector<float>* flip = nullptr, const FlipSettings& flipSettings = {});
 
 // Of the covered pixels where `approx` is wrong (|approx - ref| > threshold), the fraction that is
 // not `marked` (0 when approx is never wrong). For PIP classification: marked = traced.

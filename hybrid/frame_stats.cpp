@@ -1,9 +1,22 @@
 #include "hybrid/frame_stats.h"
 
+#include <cmath>
+
 namespace penumbra {
 
+namespace {
+// PSNR is +infinity for identical buffers, which JSON cannot hold: null says "no difference".
+nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+}  // namespace
+
 nlohmann::json toJson(const ErrorMetrics& e) {
-  return {{"rmse", e.rmse}, {"mae", e.mae}, {"max", e.max}, {"wrong_pixel_fraction", e.wrongPixelFraction}, {"pixels", e.pixels}};
+  return {{"rmse", e.rmse}, {"mae", e.mae}, {"max", e.max}, {"wrong_pixel_fraction", e.wrongPixelFraction},
+          {"psnr", finiteOrNull(e.psnr)}, {"pixels", e.pixels}};
+}
+
+nlohmann::json toJson(const ImageErrorMetrics& e) {
+  return {{"rmse", e.rmse}, {"mae", e.mae}, {"max", e.max}, {"psnr", finiteOrNull(e.psnr)}, {"flip_mean", e.flipMean},
+          {"pixels", e.pixels}};
 }
 
 void FrameStats::addPass(const std::string& pass, double ms) {
@@ -41,7 +54,12 @@ nlohmann::json FrameStats::toJson() const {
           {"samples_per_pixel", samplesPerPixel},
           {"memory_bytes", memoryBytes},
           {"setup_ms", setupMs},
-          {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)}};
+          {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
+          {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
+          {"trace_bytes_simulated", orNull(traceBytesSimulated)},
+          {"trace_lines_simulated", orNull(traceLinesSimulated)},
+          {"raster_bytes_estimated", orNull(rasterBytesEstimated)},
+          {"bandwidth", bandwidth}};
 }
 
 }  // namespace penumbra

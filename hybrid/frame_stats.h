@@ -36,11 +36,17 @@ struct FrameStats {
   std::map<std::string, std::uint64_t> memoryBytes;    // per structure
   std::map<std::string, double> setupMs;               // one-time work (e.g. acceleration build)
   std::optional<ErrorMetrics> error;                   // vs the reference, when compared
+  std::optional<ImageErrorMetrics> imageError;         // shaded image vs the reference's, when compared
+  // --simulate-bandwidth (raytrace/bandwidth_model.h): DRAM bytes and 128-byte lines of the trace
+  // kernel as simulated, its breakdown per stream, and the estimate for the raster passes.
+  std::optional<std::uint64_t> traceBytesSimulated, traceLinesSimulated, rasterBytesEstimated;
+  nlohmann::json bandwidth;  // null unless simulated
 
   void addPass(const std::string& pass, double ms);  // adds to an existing pass of that name
   nlohmann::json toJson() const;
 };
 
 nlohmann::json toJson(const ErrorMetrics& error);
+nlohmann::json toJson(const ImageErrorMetrics& error);
 
 }  // namespace penumbra

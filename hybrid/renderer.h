@@ -40,6 +40,7 @@ struct RenderSettings {
   std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU) or "embree" (CPU)
   raster::PipSettings pip;
   raster::ThinTriangleSettings thin;
+  bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
 };
 
 // One rendered frame, read back to the host.

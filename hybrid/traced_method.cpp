@@ -3,13 +3,46 @@
 //        answer), compaction of the PIP pixels, trace only those (Lauterbach et al. 2009, 3.1).
 //   frt: camera pass, compaction of every covered pixel, trace all of them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
+#include <chrono>
+#include <string>
+
 #include "hybrid/method.h"
 #include "hybrid/renderer.h"
+#include "raytrace/bandwidth_model.h"
 #include "shared/compact.h"
 #include "shared/trace.h"
 
 namespace penumbra {
 namespace {
+
+// --simulate-bandwidth: the trace kernel's memory traffic, replayed on the CPU, and the estimate
+// for the passes before it (raytrace/bandwidth_model.h). Only the bvh tracer's kernel is modelled.
+void simulateBandwidth(Renderer& r, const ShadowTracer& tracer, const TraceJob& job, bool selective, FrameStats& stats) {
+  const auto* bvh = dynamic_cast<const BvhTracer*>(&tracer);
+  if (!bvh) {
+    stats.notes.push_back("--simulate-bandwidth models the bvh tracer's kernel only; " + tracer.name() + " was not simulated");
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const BandwidthReport trace =
+      simulateTraceBandwidth(*bvh, job, r.frameData().light, bandwidthSettingsFor(r.context().deviceName()));
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  // CPU work inside the frame: say so, so that nobody reads this frame's total as the method's time.
+  stats.setupMs["bandwidth_simulation"] = ms;
+  stats.notes.push_back("the frame's total time includes " + std::to_string(int(ms)) +
+                        " ms of bandwidth simulation (--simulate-bandwidth); time without it");
+  const RasterEstimate raster = estimateRasterBytes({.pixels = std::uint64_t(r.settings().width) * r.settings().height,
+                                                     .triangles = r.scene().triangleCount(),
+                                                     .shadowMapRes = r.settings().shadowMap.resolution,
+                                                     .faces = r.frameData().shadow.faceCount,
+                                                     .selective = selective,
+                                                     .thinPass = r.settings().pip.thinPass,
+                                                     .tracedPoints = trace.invocations});
+  stats.traceBytesSimulated = trace.bytes();
+  stats.traceLinesSimulated = trace.lines();
+  stats.rasterBytesEstimated = raster.total();
+  stats.bandwidth = toJson(trace, raster);
+}
 
 class TracedMethod final : public Method {
  public:
@@ -40,6 +73,7 @@ class TracedMethod final : public Method {
     stats.pipPixels = job.count.download<shared::TraceCount>(1).front().count;
     stats.nodeVisits = report.nodeVisits;
     stats.triangleTests = report.triangleTests;
+    if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, job, selective_, stats);
   }
 
  private:

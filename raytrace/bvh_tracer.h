@@ -26,6 +26,9 @@ class BvhTracer final : public ShadowTracer {
   TraceReport finish(const TraceJob& job) override;  // the counters of the last record() (each resets them)
 
   const BvhStats& stats() const { return stats_; }
+  // The uploaded BVH, host visible (for the bandwidth model): BvhNode and BvhTriangle arrays.
+  const gpu::Buffer& nodeBuffer() const { return nodes_; }
+  const gpu::Buffer& triangleBuffer() const { return triangles_; }
 
   // Traces `rays` now (own submissions, waits). anyHit: each hit is the first one found, not
   // necessarily the nearest; closest-hit otherwise. A miss has t < 0 and triangle BVH_NO_HIT.
