@@ -1,5 +1,6 @@
 #include "apps/run_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "hybrid/method.h"
+#include "raytrace/ntree_builder.h"
 
 namespace penumbra {
 namespace {
@@ -40,7 +42,7 @@ void requireFinite(float value, const char* option) {
 }
 
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating.
-std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
+std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene, bool usesLineSpace) {
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
   const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
   // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map);
@@ -52,7 +54,11 @@ std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene) {
   const std::uint64_t frame = pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
   // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)
   const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36 + 48 + 64);
-  return lightMaps + gbuffer + frame + geometry;
+  // The line space refuses itself before allocating when its pools exceed its budget, so an
+  // explicit --linespace-budget is what it may add; the default (a quarter of the available
+  // memory) is left out, as it adapts to what is free.
+  const std::uint64_t lineSpace = usesLineSpace ? s.lineSpace.budgetBytes : 0;
+  return lightMaps + gbuffer + frame + geometry + lineSpace;
 }
 
 std::uint64_t physicalMemoryBytes() {
@@ -79,8 +85,16 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
-  app.add_option("--tracer", c.tracer, "Ray tracer of srt and frt: bvh (GPU compute) or embree (CPU)")
-      ->capture_default_str()->check(CLI::IsMember({"bvh", "embree"}));
+  app.add_option("--tracer", c.tracer, "Ray tracer of srt and frt: bvh (GPU compute), embree (CPU) or ls (line space, GPU)")
+      ->capture_default_str()->check(CLI::IsMember({"bvh", "embree", "ls"}));
+  app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
+  app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
+  app.add_option("--linespace-budget", c.linespaceBudgetMb,
+                 "Line space: memory budget of its pools in MB (0 = a quarter of the available memory)")
+      ->capture_default_str();
+  app.add_option("--linespace-offset", c.linespaceOffset,
+                 "Line space: ignore occluders within this many leaf cells of the receiver's surface (0 = the paper's start-node rule alone)")
+      ->capture_default_str()->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
   app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
   app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
@@ -158,12 +172,18 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.msmMaps = c.msmMaps;
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
+  const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
+  if (lineSpace) NTreeBuilder::validate(c.linespaceN, c.linespaceDepth);
+  if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {
+    throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");
+  }
+  s.settings.lineSpace = {c.linespaceN, c.linespaceDepth, std::uint64_t(c.linespaceBudgetMb * 1e6), c.linespaceOffset};
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.simulateBandwidth = c.simulateBandwidth;
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 
-  const std::uint64_t need = estimateBytes(s.settings, s.scene), have = physicalMemoryBytes();
+  const std::uint64_t need = estimateBytes(s.settings, s.scene, lineSpace), have = physicalMemoryBytes();
   if (need > have / 2) {
     throw InputError("this run needs about " + std::to_string(need >> 20) + " MiB of GPU buffers but the machine has " +
                      std::to_string(have >> 20) + " MiB; lower --res or --shadow-map-res");

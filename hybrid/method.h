@@ -35,6 +35,7 @@ enum class ShadowMapFilter { None, Pcf, Pcss };
 std::unique_ptr<Method> makeShadowMapMethod(ShadowMapFilter filter);  // sm (None), pcf (Pcf), pcss (Pcss)
 std::unique_ptr<Method> makeMultiMapMethod();  // msm: average of settings.msmMaps light-sample maps
 std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
-std::unique_ptr<Method> makeTracedMethod(bool selective);   // srt (selective = true), frt
+// srt (selective = true), frt; `tracer` overrides the settings' tracer (method ls: frt on "ls")
+std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer = {});
 
 }  // namespace penumbra

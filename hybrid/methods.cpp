@@ -17,6 +17,7 @@ const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry(
       {"ref", [] { return makeReferenceMethod(); }},
       {"srt", [] { return makeTracedMethod(true); }},
       {"frt", [] { return makeTracedMethod(false); }},
+      {"ls", [] { return makeTracedMethod(false, "ls"); }},  // frt on the line-space tracer
   };
   return methods;
 }

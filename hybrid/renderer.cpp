@@ -1,6 +1,7 @@
 #include "hybrid/renderer.h"
 
 #include <chrono>
+#include <cstdio>
 
 #include "core/gpu_light.h"
 #include "hybrid/method.h"
@@ -45,9 +46,24 @@ const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   return *embree_;
 }
 
-ShadowTracer& Renderer::tracer(FrameStats& stats) {
-  if (settings_.tracer == "embree") return const_cast<EmbreeTracer&>(embree(stats));
-  if (settings_.tracer != "bvh") throw InputError("unknown tracer '" + settings_.tracer + "'; use bvh or embree");
+ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
+  const std::string& tracer = name.empty() ? settings_.tracer : name;
+  if (tracer == "embree") return const_cast<EmbreeTracer&>(embree(stats));
+  if (tracer == "ls") {
+    if (!lineSpace_) lineSpace_ = std::make_unique<LineSpaceTracer>(context_, scene_, settings_.lineSpace);
+    stats.setupMs["linespace_build"] = lineSpace_->stats().buildMs;
+    const LineSpaceStats& ls = lineSpace_->stats();
+    stats.memoryBytes["linespace"] = ls.bytes;
+    char note[200];
+    std::snprintf(note, sizeof(note),
+                  "line space (N=%u, d=%u): %llu subdivided nodes, %.1f MB, build %.0f ms (tree %.0f, bits %.0f), %.1f%% "
+                  "bits set",
+                  ls.n, ls.depth, (unsigned long long)ls.nodes, double(ls.bytes) / 1e6, ls.buildMs, ls.treeMs,
+                  ls.lineSpaceMs, 100.0 * ls.filledFraction);
+    stats.notes.push_back(note);
+    return *lineSpace_;
+  }
+  if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "'; use bvh, embree or ls");
   if (!bvh_) bvh_ = std::make_unique<BvhTracer>(context_, scene_);
   stats.setupMs["bvh_build"] = bvh_->stats().buildMs;
   stats.memoryBytes["bvh"] = bvh_->stats().bytes;

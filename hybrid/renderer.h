@@ -22,6 +22,7 @@
 #include "raster/thin_triangle_pass.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/embree_tracer.h"
+#include "raytrace/linespace_tracer.h"
 #include "shared/frame.h"
 
 namespace penumbra {
@@ -37,7 +38,8 @@ struct RenderSettings {
   std::uint32_t pcfFilter = FILTER_PCF3;  // kernel of `pcf`: FILTER_PCF3, FILTER_PCF5, FILTER_POISSON
   std::uint32_t msmMaps = 4;         // `msm`: shadow maps from this many light samples, averaged
   float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
-  std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU) or "embree" (CPU)
+  std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU), "embree" (CPU) or "ls" (line space)
+  LineSpaceSettings lineSpace;       // tracer "ls" and method ls: N, depth, memory budget
   raster::PipSettings pip;
   raster::ThinTriangleSettings thin;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
@@ -77,7 +79,8 @@ class Renderer {
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
   const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
-  ShadowTracer& tracer(FrameStats& stats);         // settings().tracer, built on first use
+  // settings().tracer (or `name` when given), built on first use
+  ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
   TraceJob traceJob() const;                       // the compacted points and where results go
 
   // Records the camera pass with its timer scope (every method starts with it).
@@ -112,6 +115,7 @@ class Renderer {
   std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
   std::unique_ptr<EmbreeTracer> embree_;
   std::unique_ptr<BvhTracer> bvh_;
+  std::unique_ptr<LineSpaceTracer> lineSpace_;
   gpu::Buffer frameBuffer_, visibility_, color_;
   gpu::Buffer smVisibility_, traceFlags_, rayMax_;
   gpu::GpuTimer timer_;

@@ -1,10 +1,11 @@
-// Methods srt and frt on the chosen tracer (--tracer bvh|embree).
+// Methods srt and frt on the chosen tracer (--tracer bvh|embree|ls), and ls: frt on the line-space tracer.
 //   srt: camera pass, light pass, thin-triangle mask, PIP classification (which also gives the sm
 //        answer), compaction of the PIP pixels, trace only those (Lauterbach et al. 2009, 3.1).
 //   frt: camera pass, compaction of every covered pixel, trace all of them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
 #include <chrono>
 #include <string>
+#include <utility>
 
 #include "hybrid/method.h"
 #include "hybrid/renderer.h"
@@ -46,11 +47,11 @@ void simulateBandwidth(Renderer& r, const ShadowTracer& tracer, const TraceJob& 
 
 class TracedMethod final : public Method {
  public:
-  explicit TracedMethod(bool selective) : selective_(selective) {}
+  TracedMethod(bool selective, std::string tracerName) : selective_(selective), tracerName_(std::move(tracerName)) {}
   bool classifies() const override { return selective_; }
 
   void run(Renderer& r, FrameStats& stats) override {
-    ShadowTracer& tracer = r.tracer(stats);
+    ShadowTracer& tracer = r.tracer(stats, tracerName_);
     const TraceJob job = r.traceJob();
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
@@ -78,10 +79,13 @@ class TracedMethod final : public Method {
 
  private:
   bool selective_;
+  std::string tracerName_;  // empty: the settings' tracer
 };
 
 }  // namespace
 
-std::unique_ptr<Method> makeTracedMethod(bool selective) { return std::make_unique<TracedMethod>(selective); }
+std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer) {
+  return std::make_unique<TracedMethod>(selective, tracer);
+}
 
 }  // namespace penumbra

@@ -1,0 +1,140 @@
+#include "raytrace/line_space.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+#include "raytrace/shaft_table.h"
+
+namespace penumbra {
+namespace {
+
+std::string megabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f MB", double(bytes) / 1e6);
+  return text;
+}
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_t groups) {
+  LineSpaceSizes s;
+  s.treeBytes = std::max<std::uint64_t>(groups, 1) * n * n * n * sizeof(std::uint32_t);
+  s.nodeBytes = nodes * sizeof(shared::LsNode);
+  s.lineSpaceBytes = nodes * shared::lsWordsPerNode(n) * sizeof(std::uint32_t);
+  return s;
+}
+
+std::uint64_t defaultLineSpaceBudget() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  std::uint64_t kib = 0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit) {
+    if (key == "MemAvailable:") return kib * 1024 / 4;
+  }
+  return std::uint64_t(1) << 30;  // no /proc: 1 GiB
+}
+
+LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
+                         const std::string& sceneName) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::uint32_t n = tree.n, depth = tree.depth;
+  const std::uint64_t groups = tree.nodes.size() - tree.stats.nodesPerLevel[depth - 1];
+  const LineSpaceSizes sizes = lineSpaceSizes(n, tree.nodes.size(), groups);
+  const std::uint64_t budget = settings.budgetBytes ? settings.budgetBytes : defaultLineSpaceBudget();
+  const std::string set = "line space (N=" + std::to_string(n) + ", d=" + std::to_string(depth) + ") of scene '" +
+                          sceneName + "'";
+  if (sizes.total() > budget) {
+    throw InputError(set + " needs " + megabytes(sizes.total()) + " (" + std::to_string(tree.nodes.size()) +
+                     " subdivided nodes) but the budget is " + megabytes(budget) +
+                     "; lower N (--linespace-n) or d (--linespace-depth), or raise --linespace-budget (MB)");
+  }
+  const std::uint64_t largest = std::max(sizes.treeBytes, std::max(sizes.nodeBytes, sizes.lineSpaceBytes));
+  if (maxPoolBytes && largest > maxPoolBytes) {
+    throw InputError(set + " needs " + megabytes(largest) + " in one pool but the device binds at most " +
+                     megabytes(maxPoolBytes) +
+                     " per storage buffer (maxStorageBufferRange); lower N (--linespace-n) or d (--linespace-depth)");
+  }
+
+  const auto tableStart = std::chrono::steady_clock::now();
+  const ShaftTable& table = ShaftTable::get(n);
+  const double tableMs = millisecondsSince(tableStart);
+
+  LineSpace ls;
+  ls.n = n;
+  ls.depth = depth;
+  const std::uint32_t cells = n * n * n, words = shared::lsWordsPerNode(n);
+  ls.nodes.resize(tree.nodes.size());
+  ls.tree.reserve(sizes.treeBytes / sizeof(std::uint32_t));
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const NTree::Node& node = tree.nodes[i];
+    shared::LsNode& out = ls.nodes[i];
+    out = {node.lo, node.size, LS_SKIP, node.level, 0u, 0u};
+    if (node.level + 1 >= depth) continue;  // its children are leaves: never entered
+    out.children = std::uint32_t(ls.tree.size());
+    for (std::uint32_t c = 0; c < cells; ++c) {
+      const std::uint32_t entry = tree.child(std::uint32_t(i), c);
+      ls.tree.push_back(entry == NTree::kEmpty ? LS_SKIP : entry);  // above level d-1 children are nodes
+    }
+  }
+  if (ls.tree.empty()) ls.tree.assign(cells, LS_SKIP);  // d = 2 keeps its root group; never empty on the GPU
+
+  // Bits: the OR of the shaft sets of the node's non-empty cells, 64 bits at a time.
+  ls.bits.assign(tree.nodes.size() * words, 0u);
+  std::atomic<std::uint32_t> next{0};
+  std::atomic<std::uint64_t> setBits{0};
+  auto work = [&] {
+    std::vector<std::uint64_t> row(table.shaftWords());
+    std::uint64_t set = 0;
+    for (std::uint32_t i = next++; i < tree.nodes.size(); i = next++) {
+      std::fill(row.begin(), row.end(), 0);
+      for (std::uint32_t c = 0; c < cells; ++c) {
+        if (tree.child(i, c) == NTree::kEmpty) continue;
+        const auto shafts = table.cellShafts(c);
+        for (std::size_t w = 0; w < row.size(); ++w) row[w] |= shafts[w];
+      }
+      for (std::uint64_t w : row) set += std::uint64_t(std::popcount(w));
+      // Little-endian: 64-bit word w is 32-bit words 2w (bits 0..31) and 2w+1, as lsWordsPerNode counts.
+      std::memcpy(ls.bits.data() + std::size_t(i) * words, row.data(), row.size() * sizeof(std::uint64_t));
+    }
+    setBits += set;
+  };
+  std::vector<std::thread> threads;
+  for (unsigned w = 1; w < std::max(1u, std::thread::hardware_concurrency()); ++w) threads.emplace_back(work);
+  work();
+  for (std::thread& thread : threads) thread.join();
+
+  LineSpaceStats& s = ls.stats;
+  s.n = n;
+  s.depth = depth;
+  s.nodes = tree.nodes.size();
+  s.leaves = tree.leaves.size();
+  s.treeBytes = ls.tree.size() * sizeof(std::uint32_t);
+  s.nodeBytes = ls.nodes.size() * sizeof(shared::LsNode);
+  s.lineSpaceBytes = ls.bits.size() * sizeof(std::uint32_t);
+  s.bytes = s.treeBytes + s.nodeBytes + s.lineSpaceBytes;
+  s.treeMs = tree.stats.buildMs;
+  s.tableMs = tableMs;
+  s.lineSpaceMs = millisecondsSince(start);
+  s.buildMs = s.treeMs + s.lineSpaceMs;
+  s.filledFraction = double(setBits.load()) / (double(s.nodes) * shared::lsShaftCount(n));
+  return ls;
+}
+
+LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes) {
+  NTreeBuilder::validate(settings.n, settings.depth);
+  const NTree tree = NTreeBuilder(settings.n, settings.depth).build(scene);
+  return buildLineSpace(tree, settings, maxPoolBytes, scene.name);
+}
+
+}  // namespace penumbra

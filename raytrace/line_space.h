@@ -1,0 +1,77 @@
+// The binary line space (Keul et al. 2017, 3 and 3.1): per subdivided node of the N-tree one bit
+// per shaft, set when any child cell the shaft meets is non-empty, in the paper's three GPU pools:
+// tree pool (children groups of N^3 entries: a node-pool index or LS_SKIP), node pool (LsNode)
+// and line-space pool (shared::lsWordsPerNode(N) 32-bit words per node, node i <-> line space i).
+// The size is known exactly once the tree is built (node counts times fixed per-node sizes), so
+// a parameter set that does not fit the budget is refused before any bit is computed.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "raytrace/ntree_builder.h"
+#include "shared/linespace.h"
+
+namespace penumbra {
+
+static_assert(sizeof(shared::LsNode) == 32, "LsNode must match std430");
+static_assert(sizeof(shared::LsPush) == 16, "LsPush must match std430");
+
+struct LineSpaceSettings {
+  std::uint32_t n = 6;             // branching factor N, LS_MIN_N..LS_MAX_N
+  std::uint32_t depth = 3;         // maximum depth d, LS_MIN_DEPTH..LS_MAX_DEPTH
+  std::uint64_t budgetBytes = 0;   // the three pools together; 0 = defaultLineSpaceBudget()
+  // The line space answers for a shadow ray only from where it is this many leaf cells above the
+  // receiver's surface plane on. A shaft leaving the skipped start node near the receiver's own
+  // surface contains the receiver's cells and so reads as occluded (dark bands along node
+  // boundaries); skipping the ray's part within one cell of the surface avoids that, at the price
+  // of occluders that close (contact shadows). The ray itself is unchanged, so shadow edges stay
+  // where they are. 0 = the paper's start-node rule alone.
+  float startOffsetCells = 1.0f;
+};
+
+struct LineSpaceStats {
+  std::uint32_t n = 0, depth = 0;
+  std::uint64_t nodes = 0;        // subdivided nodes = line spaces
+  std::uint64_t leaves = 0;       // non-empty cells at level d (not stored in the pools)
+  std::uint64_t treeBytes = 0, nodeBytes = 0, lineSpaceBytes = 0;
+  std::uint64_t bytes = 0;        // the three pools as uploaded
+  double treeMs = 0.0;            // N-tree build
+  double tableMs = 0.0;           // shaft table (0 when it was cached)
+  double lineSpaceMs = 0.0;       // bits
+  double buildMs = 0.0;           // all three
+  double filledFraction = 0.0;    // set bits over all bits
+};
+
+struct LineSpaceSizes {
+  std::uint64_t treeBytes = 0, nodeBytes = 0, lineSpaceBytes = 0;
+  std::uint64_t total() const { return treeBytes + nodeBytes + lineSpaceBytes; }
+};
+
+struct LineSpace {
+  std::uint32_t n = 0, depth = 0;
+  std::vector<std::uint32_t> tree;    // tree pool
+  std::vector<shared::LsNode> nodes;  // node pool, node 0 the root
+  std::vector<std::uint32_t> bits;    // line-space pool
+  LineSpaceStats stats;
+
+  bool bit(std::uint32_t node, std::uint32_t shaft) const {
+    return (bits[std::size_t(node) * shared::lsWordsPerNode(n) + shaft / 32] >> (shaft % 32)) & 1u;
+  }
+};
+
+// Pool sizes for `nodes` subdivided nodes of which `groups` have a children group (those above
+// the second-to-last level).
+LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_t groups);
+// A quarter of the memory the system reports available (lavapipe's buffers are host memory).
+std::uint64_t defaultLineSpaceBudget();
+
+// Builds the pools on top of `tree`. Throws InputError naming (N, d), the size in MB and how to
+// change it when the pools exceed the budget or one pool exceeds maxPoolBytes (the device's
+// maxStorageBufferRange; 0 = no limit).
+LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
+                         const std::string& sceneName);
+// The N-tree and then the pools; the stats include the tree's build time.
+LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes);
+
+}  // namespace penumbra

@@ -1,0 +1,109 @@
+#include "raytrace/linespace_tracer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <stdexcept>
+
+#include "linespace_trace_comp.h"
+#include "shared/trace.h"
+
+namespace penumbra {
+namespace {
+
+using Stage = vk::PipelineStageFlagBits2;
+using Access = vk::AccessFlagBits2;
+
+constexpr gpu::Binding kBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eStorageBuffer},
+                                      {LS_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
+                                      {LS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
+                                      {LS_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+                                      {4, vk::DescriptorType::eStorageBuffer},
+                                      {5, vk::DescriptorType::eStorageBuffer},
+                                      {6, vk::DescriptorType::eStorageBuffer},
+                                      {7, vk::DescriptorType::eStorageBuffer}};
+constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
+
+void requireSubgroupArithmetic(const gpu::Context& context) {
+  const auto chain =
+      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
+  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
+    throw std::runtime_error("LineSpaceTracer: " + context.deviceName() +
+                             " lacks subgroup arithmetic in compute shaders, which the trace kernel's counters use");
+  }
+}
+
+LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
+  requireSubgroupArithmetic(context);
+  return buildLineSpace(scene, settings, context.physicalDevice().getProperties().limits.maxStorageBufferRange);
+}
+
+void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
+                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess) {
+  const vk::MemoryBarrier2 barrier{
+      .srcStageMask = srcStage, .srcAccessMask = srcAccess, .dstStageMask = dstStage, .dstAccessMask = dstAccess};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
+}
+
+}  // namespace
+
+LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings)
+    : LineSpaceTracer(context, buildChecked(context, scene, settings), settings.startOffsetCells) {}
+
+LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, LineSpace ls, float startOffsetCells)
+    : stats_(ls.stats),
+      push_{ls.n, ls.depth, shared::lsWordsPerNode(ls.n),
+            startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth))},
+      tree_(context, ls.tree.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "ls tree pool"),
+      nodes_(context, ls.nodes.size() * sizeof(shared::LsNode), vk::BufferUsageFlagBits::eStorageBuffer, "ls node pool"),
+      bits_(context, ls.bits.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
+            "ls line-space pool"),
+      counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                "ls counters"),
+      pipeline_(context, linespace_trace_comp, kBindings, sizeof(shared::LsPush), "linespace trace pipeline") {
+  tree_.upload(std::span<const std::uint32_t>(ls.tree));
+  nodes_.upload(std::span<const shared::LsNode>(ls.nodes));
+  bits_.upload(std::span<const std::uint32_t>(ls.bits));
+  std::memset(counters_.data(), 0, kCounterBytes);
+}
+
+void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
+  // As BvhTracer::record: the compaction's writes (points, count, the indirect arguments) feed
+  // this dispatch; earlier compute work may still use the counters and the visibility buffer.
+  memoryBarrier(
+      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
+      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
+      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
+  cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  pipeline_.bind(cmd, gpu::Descriptors{}
+                          .buffer(LS_BINDING_TREE, tree_)
+                          .buffer(LS_BINDING_NODES, nodes_)
+                          .buffer(LS_BINDING_BITS, bits_)
+                          .buffer(LS_BINDING_COUNTERS, counters_)
+                          .buffer(4, job.points)
+                          .buffer(5, job.count)
+                          .buffer(6, job.frame)
+                          .buffer(7, job.visibility));
+  pipeline_.pushConstants(cmd, push_);
+  cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
+  gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
+}
+
+TraceReport LineSpaceTracer::finish(const TraceJob&) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto words = counters_.download<std::uint32_t>(LS_COUNTER_WORDS);
+  auto value = [&](std::uint32_t low) { return std::uint64_t(words[low]) | (std::uint64_t(words[low + 1]) << 32); };
+  TraceReport report;
+  report.rays = value(LS_COUNTER_RAYS);
+  report.nodeVisits = value(LS_COUNTER_NODE_VISITS);
+  report.hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,141 @@
+// Line-space traversal for shadow rays (Keul et al. 2017, Algorithm 1), included by
+// linespace_trace.comp (not compiled on its own). Declares the three pools and the counters at
+// LS_BINDING_*; includers enable GL_KHR_shader_subgroup_basic and _arithmetic (lsAddCounters).
+//
+// A subdivided node is visited with the ray segment clipped to its cube:
+//  - if the segment starts or ends inside the cube, its shaft would cover the part of the line
+//    beyond the segment (the surface the ray leaves, or what lies behind the light), so the node's
+//    line space cannot be used. Above the second-to-last level the node is entered (its children
+//    decide); at the second-to-last level it is skipped, as the paper requires: the geometry of
+//    the finest node around the shading point casts no shadow (missing contact shadows);
+//  - otherwise the shaft of its entry and exit patches is looked up: bit clear -> nothing in the
+//    node can block the ray; bit set -> occluded at the second-to-last level (the approximation:
+//    the ray need not hit what the shaft meets), else its non-empty children along the ray are
+//    visited front to back (3D DDA over the N^3 grid) with an explicit stack of DDA states.
+// A segment entering and leaving through the same face (it grazes that face) has no shaft; it
+// is treated as a set bit, which keeps the answer conservative.
+#include "shared/linespace.h"
+
+layout(std430, binding = LS_BINDING_TREE) readonly buffer LsTree { uint lsTree[]; };
+layout(std430, binding = LS_BINDING_NODES) readonly buffer LsNodes { LsNode lsNodes[]; };
+layout(std430, binding = LS_BINDING_BITS) readonly buffer LsBits { uint lsBits[]; };
+layout(std430, binding = LS_BINDING_COUNTERS) buffer LsCounters { uint lsCounters[LS_COUNTER_WORDS]; };
+layout(push_constant) uniform LsPushBlock { LsPush lsPush; };
+
+uint lsNodeVisits = 0u;  // of the calling invocation
+
+#define LS_SKIPPED 0u
+#define LS_OCCLUDED 1u
+#define LS_DESCEND 2u
+
+// Robust reciprocal (as bvhInverseDirection): tiny components stay finite so slab distances never
+// become NaN.
+vec3 lsInverseDirection(vec3 dir) {
+  const float tiny = 1.0e-20f;
+  vec3 safe = mix(dir, mix(vec3(tiny), vec3(-tiny), lessThan(dir, vec3(0.0f))), lessThan(abs(dir), vec3(tiny)));
+  return 1.0f / safe;
+}
+
+// What to do with subdivided node `index` for the segment origin + t dir, t in [tMin, tMax].
+// tIn/tOut: the segment's part inside the node.
+uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, float tMax, out float tIn,
+                out float tOut) {
+  ++lsNodeVisits;
+  LsNode node = lsNodes[index];
+  vec3 t0 = (node.position - origin) * invDir;
+  vec3 t1 = (node.position + vec3(node.size) - origin) * invDir;
+  vec3 tNear = min(t0, t1);
+  vec3 tFar = max(t0, t1);
+  float enter = max(tNear.x, max(tNear.y, tNear.z));
+  float exit = min(tFar.x, min(tFar.y, tFar.z));
+  tIn = max(enter, tMin);
+  tOut = min(exit, tMax);
+  if (tIn > tOut) return LS_SKIPPED;  // the DDA may hand over a cell the segment only grazes
+  bool last = node.level + 1u >= lsPush.depth;
+  if (enter <= tMin || exit >= tMax) return last ? LS_SKIPPED : LS_DESCEND;  // an end lies inside
+  uint axisIn = tNear.x == enter ? 0u : (tNear.y == enter ? 1u : 2u);
+  uint axisOut = tFar.x == exit ? 0u : (tFar.y == exit ? 1u : 2u);
+  uint faceIn = 2u * axisIn + (lsComponent(invDir, axisIn) > 0.0f ? 0u : 1u);
+  uint faceOut = 2u * axisOut + (lsComponent(invDir, axisOut) > 0.0f ? 1u : 0u);
+  vec3 localIn = (origin + enter * dir - node.position) / node.size;
+  vec3 localOut = (origin + exit * dir - node.position) / node.size;
+  uint n = lsPush.n;
+  uint shaft = lsShaft(faceIn, lsPatch(localIn, faceIn, n), faceOut, lsPatch(localOut, faceOut, n), n);
+  if (shaft != LS_NO_SHAFT) {
+    uint word = lsBits[index * lsPush.wordsPerNode + shaft / 32u];
+    if ((word & (1u << (shaft % 32u))) == 0u) return LS_SKIPPED;
+  }
+  return last ? LS_OCCLUDED : LS_DESCEND;
+}
+
+// The cell of `node`'s grid that holds point p (clamped to the grid).
+ivec3 lsCellOf(LsNode node, vec3 p) {
+  float n = float(lsPush.n);
+  return ivec3(clamp(floor((p - node.position) / node.size * n), vec3(0.0f), vec3(n - 1.0f)));
+}
+
+// Whether the segment origin + t dir, t in [tMin, tMax], is occluded according to the line space.
+bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
+  vec3 invDir = lsInverseDirection(dir);
+  // From invDir's sign, so that a zero component (made +tiny) steps towards its far boundary.
+  ivec3 stepDir = ivec3(greaterThan(invDir, vec3(0.0f))) * 2 - ivec3(1);
+  int n = int(lsPush.n);
+  // DDA state per level: the node, the cell next to visit (x < 0: done) and the segment's exit.
+  uint frameNode[LS_MAX_DEPTH];
+  ivec3 frameCell[LS_MAX_DEPTH];
+  float frameOut[LS_MAX_DEPTH];
+  float tIn, tOut;
+  uint root = lsClassify(0u, origin, dir, invDir, tMin, tMax, tIn, tOut);
+  if (root != LS_DESCEND) return root == LS_OCCLUDED;
+  int level = 0;
+  frameNode[0] = 0u;
+  frameCell[0] = lsCellOf(lsNodes[0], origin + tIn * dir);
+  frameOut[0] = tOut;
+  while (level >= 0) {
+    ivec3 cell = frameCell[level];
+    if (cell.x < 0) {
+      --level;
+      continue;
+    }
+    LsNode node = lsNodes[frameNode[level]];
+    // Step the DDA past this cell: across the boundary the ray reaches first.
+    float cellSize = node.size / float(n);
+    vec3 boundary = node.position + vec3(cell + max(stepDir, ivec3(0))) * cellSize;
+    vec3 tCross = (boundary - origin) * invDir;
+    float tNext = min(tCross.x, min(tCross.y, tCross.z));
+    ivec3 axisMask = tCross.x == tNext ? ivec3(1, 0, 0) : (tCross.y == tNext ? ivec3(0, 1, 0) : ivec3(0, 0, 1));
+    ivec3 nextCell = cell + axisMask * stepDir;
+    bool leaves = tNext >= frameOut[level] || any(lessThan(nextCell, ivec3(0))) || any(greaterThanEqual(nextCell, ivec3(n)));
+    frameCell[level] = leaves ? ivec3(-1) : nextCell;
+
+    uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
+    if (child == LS_SKIP) continue;
+    uint result = lsClassify(child, origin, dir, invDir, tMin, tMax, tIn, tOut);
+    if (result == LS_OCCLUDED) return true;
+    if (result == LS_DESCEND) {
+      ++level;
+      frameNode[level] = child;
+      frameCell[level] = lsCellOf(lsNodes[child], origin + tIn * dir);
+      frameOut[level] = tOut;
+    }
+  }
+  return false;
+}
+
+// Adds to a 64-bit counter kept as (low, high) words (see bvhAddCounter).
+void lsAddCounter(uint word, uint value) {
+  if (value == 0u) return;
+  uint old = atomicAdd(lsCounters[word], value);
+  if (old > 0xffffffffu - value) atomicAdd(lsCounters[word + 1u], 1u);
+}
+
+// This invocation's rays and node visits, one atomic per subgroup and counter; call it from every
+// invocation that has not returned.
+void lsAddCounters(uint rays) {
+  uint subgroupRays = subgroupAdd(rays);
+  uint subgroupVisits = subgroupAdd(lsNodeVisits);
+  if (subgroupElect()) {
+    lsAddCounter(LS_COUNTER_RAYS, subgroupRays);
+    lsAddCounter(LS_COUNTER_NODE_VISITS, subgroupVisits);
+  }
+}
