@@ -172,4 +172,14 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onMessage(VkDebugUtilsMessageSeverityFla
   return VK_FALSE;
 }
 
+void Context::requireSubgroupArithmetic(const std::string& user) const {
+  const auto chain = physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
+  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
+      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
+    throw std::runtime_error(user + ": " + deviceName() + " lacks subgroup arithmetic in compute shaders, which its counters use");
+  }
+}
+
 }  // namespace penumbra::gpu

@@ -26,6 +26,9 @@ class Context {
   const vk::raii::PhysicalDevice& physicalDevice() const { return physical_; }
   std::uint32_t queueFamily() const { return queueFamily_; }
   std::string deviceName() const;
+  // Throws std::runtime_error naming `user` when compute shaders lack subgroup basic/arithmetic
+  // operations (the trace kernels sum their counters per subgroup).
+  void requireSubgroupArithmetic(const std::string& user) const;
   std::string driverInfo() const;  // driver name and version, for benchmark rows
   bool validationEnabled() const { return validate_; }
   float timestampPeriodNs() const { return timestampPeriodNs_; }

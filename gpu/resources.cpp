@@ -94,6 +94,13 @@ void computeToComputeAndHost(const vk::raii::CommandBuffer& cmd) {
   cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
 }
 
+void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
+                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess) {
+  const vk::MemoryBarrier2 barrier{
+      .srcStageMask = srcStage, .srcAccessMask = srcAccess, .dstStageMask = dstStage, .dstAccessMask = dstAccess};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
+}
+
 void copyImageToBuffer(const vk::raii::CommandBuffer& cmd, const Image& image, const Buffer& buffer) {
   if (buffer.size() < image.bytes()) throw std::out_of_range("readback buffer smaller than image " + image.desc().name);
   const vk::BufferImageCopy region{.bufferOffset = 0,

@@ -83,6 +83,10 @@ void transition(const vk::raii::CommandBuffer& cmd, const Image& image, const Tr
 // Makes compute-shader buffer writes visible to later compute reads and host reads.
 void computeToComputeAndHost(const vk::raii::CommandBuffer& cmd);
 
+// One global memory barrier.
+void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
+                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess);
+
 // Copies every layer of `image` (in GENERAL layout, left so) into `buffer`, tightly packed.
 void copyImageToBuffer(const vk::raii::CommandBuffer& cmd, const Image& image, const Buffer& buffer);
 

@@ -39,22 +39,10 @@ std::uint64_t storageLimit(const gpu::Context& context) {
   return context.physicalDevice().getProperties().limits.maxStorageBufferRange;
 }
 
-void requireSubgroupArithmetic(const gpu::Context& context) {
-  const auto chain =
-      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
-  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
-  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
-    throw std::runtime_error("BvhTracer: " + context.deviceName() +
-                             " lacks subgroup arithmetic in compute shaders, which the BVH kernels' counters use");
-  }
-}
-
 // Checks what can be known before building (the device, and the triangle buffer, the larger of
 // the two buffers), builds, then checks the node buffer.
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
-  requireSubgroupArithmetic(context);
+  context.requireSubgroupArithmetic("BvhTracer");
   const std::uint64_t limit = storageLimit(context);
   const std::uint64_t triangles = scene.triangleCount();
   auto tooLarge = [&](const char* what, std::uint64_t bytes) {
@@ -70,17 +58,10 @@ Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuild
   return bvh;
 }
 
-void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
-                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess) {
-  const vk::MemoryBarrier2 barrier{
-      .srcStageMask = srcStage, .srcAccessMask = srcAccess, .dstStageMask = dstStage, .dstAccessMask = dstAccess};
-  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
-}
-
 // Zeroes the counters on the GPU: earlier dispatches in the same command buffer may still add to them.
 void recordCounterReset(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& counters) {
   cmd.fillBuffer(counters.handle(), 0, VK_WHOLE_SIZE, 0u);
-  memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
                 Access::eShaderStorageRead | Access::eShaderStorageWrite);
 }
 
@@ -108,7 +89,7 @@ BvhTracer::BvhTracer(const gpu::Context& context, Bvh bvh)
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   // The compaction's compute writes (points, count) feed this dispatch, its indirect arguments
   // included; earlier compute work may still use the counters and the visibility buffer.
-  memoryBarrier(
+  gpu::memoryBarrier(
       cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
       Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
       Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);

@@ -25,28 +25,9 @@ constexpr gpu::Binding kBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eSto
                                       {7, vk::DescriptorType::eStorageBuffer}};
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
 
-void requireSubgroupArithmetic(const gpu::Context& context) {
-  const auto chain =
-      context.physicalDevice().getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceSubgroupProperties>();
-  const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
-  if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic) ||
-      !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic)) {
-    throw std::runtime_error("LineSpaceTracer: " + context.deviceName() +
-                             " lacks subgroup arithmetic in compute shaders, which the trace kernel's counters use");
-  }
-}
-
 LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
-  requireSubgroupArithmetic(context);
+  context.requireSubgroupArithmetic("LineSpaceTracer");
   return buildLineSpace(scene, settings, context.physicalDevice().getProperties().limits.maxStorageBufferRange);
-}
-
-void memoryBarrier(const vk::raii::CommandBuffer& cmd, vk::PipelineStageFlags2 srcStage, vk::AccessFlags2 srcAccess,
-                   vk::PipelineStageFlags2 dstStage, vk::AccessFlags2 dstAccess) {
-  const vk::MemoryBarrier2 barrier{
-      .srcStageMask = srcStage, .srcAccessMask = srcAccess, .dstStageMask = dstStage, .dstAccessMask = dstAccess};
-  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
 }
 
 }  // namespace
@@ -74,12 +55,12 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, LineSpace ls, floa
 void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   // As BvhTracer::record: the compaction's writes (points, count, the indirect arguments) feed
   // this dispatch; earlier compute work may still use the counters and the visibility buffer.
-  memoryBarrier(
+  gpu::memoryBarrier(
       cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
       Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
       Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
   cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
                 Access::eShaderStorageRead | Access::eShaderStorageWrite);
   pipeline_.bind(cmd, gpu::Descriptors{}
                           .buffer(LS_BINDING_TREE, tree_)
