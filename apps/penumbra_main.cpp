@@ -10,7 +10,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/bench_command.h"
+#include "apps/report.h"
 #include "apps/run_config.h"
+#include "apps/tune_command.h"
 #include "core/image_io.h"
 #include "core/metrics.h"
 #include "hybrid/frame_output.h"
@@ -74,6 +77,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
     }
     writeJson(config.outDir + "/metrics.json", metrics);
     if (!config.csv.empty()) appendCsv(config.csv, frames, context_json);
+    if (!config.noReport) writeReport("compare", config.outDir);  // report.html: images, metrics, chart
   }
   printSummary(frames, std::cout);
   std::cout << "wrote " << config.outDir << "/\n";
@@ -107,7 +111,10 @@ int main(int argc, char** argv) {
   compare->add_option("--methods", methodList, "Comma-separated methods to compare with ref")->capture_default_str();
   compare->add_option("--csv", config.csv, "Append one row per method (with machine, driver and device) to this CSV file");
   compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp)");
+  compare->add_flag("--no-report", config.noReport, "Do not run report.py (report.html and its chart)");
   addRunOptions(*compare, config);
+  BenchCommand bench(app);
+  TuneCommand tune(app);
 
   try {
     app.parse(argc, argv);
@@ -121,6 +128,8 @@ int main(int argc, char** argv) {
   }
   try {
     if (render->parsed()) return runCommand(config, {method}, false);
+    if (bench.parsed()) return bench.run();
+    if (tune.parsed()) return tune.run();
     return runCommand(config, splitList(methodList), true);
   } catch (const std::exception& e) {
     std::cerr << "penumbra: " << e.what() << "\n";

@@ -6,6 +6,7 @@ packages=(
   mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers vulkan-tools glslang-tools
   libglm-dev libembree-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libtinyexr-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev
+  python3-matplotlib chromium  # report.html charts (bench/report/report.py); the report test renders the page
 )
 missing=()
 for p in "${packages[@]}"; do
