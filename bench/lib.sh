@@ -23,5 +23,7 @@ bench_compare() {
 bench_done() {
   echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m)" |
     tee "bench/results/$bench_name.machine.txt"
-  echo "wrote $csv"
+  # Charts (speed vs accuracy per scene, scalability) and report.html from the rows (bench/report/report.py).
+  /usr/bin/python3 bench/report/report.py csv "$csv" "bench/results/${bench_name}_report"
+  echo "wrote $csv and bench/results/${bench_name}_report/report.html"
 }
