@@ -9,42 +9,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_fixture.h"
 #include "core/image_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int exitCode;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_cli_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) const {
-    const std::string cmd = std::string(PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
-                            (dir_ / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    return {WEXITSTATUS(status), slurp(dir_ / "stdout"), slurp(dir_ / "stderr")};
-  }
-  fs::path dir_;
-};
+using penumbra::test::slurp;
+using Result = penumbra::test::CliResult;
+using Cli = penumbra::test::CliTest;
 
 TEST_F(Cli, HelpForEveryCommand) {
   for (const auto& [command, option] : {std::pair{"render", "--method"}, std::pair{"compare", "--methods"}}) {

@@ -26,23 +26,15 @@
 #pragma GCC diagnostic pop
 
 #include "apps/tune_command.h"
+#include "cli_fixture.h"
 
 namespace fs = std::filesystem;
 using penumbra::chooseCheapest;
 
 namespace {
 
-struct Result {
-  int exitCode;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using penumbra::test::slurp;
+using Result = penumbra::test::CliResult;
 
 struct Image {
   int width = 0, height = 0;
@@ -104,23 +96,8 @@ std::vector<std::string> csvFields(const std::string& line) {
   return fields;
 }
 
-class Report : public ::testing::Test {
+class Report : public penumbra::test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("penumbra_report_" + std::to_string(::getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) const {
-    const std::string cmd = std::string(PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
-                            (dir_ / "stderr").string();
-    const int status = std::system(cmd.c_str());
-    return {WEXITSTATUS(status), slurp(dir_ / "stdout"), slurp(dir_ / "stderr")};
-  }
-
   // Every image the page names exists and decodes; returns how many there are.
   std::size_t expectImagesExist(const fs::path& page) const {
     const std::vector<std::string> sources = imageSources(slurp(page));
@@ -144,8 +121,6 @@ class Report : public ::testing::Test {
     EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(dir_ / "chromium.log");
     return readPng(shot);
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Report, CompareWritesAPageWithItsImagesAndChartThatChromiumRenders) {
