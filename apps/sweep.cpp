@@ -1,0 +1,481 @@
+#include "apps/sweep.h"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include <sys/utsname.h>
+#include <unistd.h>
+
+#include "core/flip.h"
+#include "core/image_io.h"
+#include "core/metrics.h"
+#include "hybrid/frame_output.h"
+#include "hybrid/method.h"
+
+
+namespace penumbra {
+
+const std::vector<AxisDef>& sweepAxes() {
+  static const std::vector<AxisDef> axes{
+      {"--sm-res,--shadow-map-res", "--shadow-map-res", "res", {"sm", "pcf", "pcss", "msm", "srt"}, false, false,
+       "Shadow-map resolutions, e.g. 1024,2048 (sm, pcf, pcss, msm, srt)"},
+      {"--pcf-kernel", "--pcf-kernel", "", {"pcf"}, false, false, "PCF kernels, e.g. 3x3,5x5,poisson (pcf)"},
+      {"--pip-delta", "--pip-delta", "delta", {"srt"}, false, false, "PIP depth-edge thresholds, e.g. 0.001,0.002 (srt)"},
+      {"--pip-margin", "--pip-margin", "margin", {"srt"}, false, false, "PIP receiver margins in texels (srt)"},
+      {"--msm-maps", "--msm-maps", "K", {"msm"}, false, false, "Maps averaged by msm, e.g. 4,16"},
+      {"--penumbra-maps", "--penumbra-maps", "pmaps", {"srt"}, true, false,
+       "Maps of srt's penumbra mask with area lights: 1 (centre), 5 (and corners)"},
+      {"--spp", "--spp", "spp", {"srt", "frt", "ls", "bitmask"}, true, false,
+       "Light samples per pixel with area lights, e.g. 4,16 (srt, frt, ls, bitmask)"},
+      {"--tracer", "--tracer", "", {"srt", "frt"}, false, false, "Ray tracers of srt and frt, e.g. bvh,embree"},
+      {"--linespace-n", "--linespace-n", "N", {"srt", "frt", "ls"}, false, true,
+       "Line-space subdivision N per level (with the line-space tracer), e.g. 4,6,8"},
+      {"--linespace-depth", "--linespace-depth", "d", {"srt", "frt", "ls"}, false, true,
+       "Line-space tree depth d (with the line-space tracer), e.g. 2,3"},
+      {"--bitmask-samples", "--bitmask-samples", "samples", {"bitmask"}, false, false,
+       "Bitmask visibility samples (method bitmask)"},
+  };
+  return axes;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string shortName(const std::string& option) {
+  for (const AxisDef& axis : sweepAxes()) {
+    if (option == axis.option) return axis.shortName;
+  }
+  return option.substr(option.find_first_not_of('-'));
+}
+
+
+// The shortest text that reads back as the same float: 0.1, not 0.100000001.
+std::string shortNumber(float value) {
+  char text[32];
+  const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
+  return ec == std::errc() ? std::string(text, end) : std::to_string(value);
+}
+
+// A float option as the user wrote it (0.05, not 0.05000000074505806) for JSON and CSV.
+double tidy(float value) {
+  const std::string text = shortNumber(value);
+  double out = value;
+  std::from_chars(text.data(), text.data() + text.size(), out);
+  return out;
+}
+
+// prepareRun again for a group already checked: its warnings were printed the first time.
+RunSetup quietPrepare(const RunConfig& config, const std::string& method) {
+  std::ostringstream sink;
+  std::streambuf* out = std::cout.rdbuf(sink.rdbuf());
+  std::streambuf* err = std::cerr.rdbuf(sink.rdbuf());
+  struct Restore {
+    std::streambuf *out, *err;
+    ~Restore() {
+      std::cout.rdbuf(out);
+      std::cerr.rdbuf(err);
+    }
+  } restore{out, err};
+  return prepareRun(config, {method});
+}
+
+std::string slug(const std::string& text) {
+  std::string out;
+  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return out;
+}
+
+// A progress bar on stderr, redrawn in place; silent when stderr is not a terminal (logs, tests).
+class Progress {
+ public:
+  Progress(std::size_t total, bool wanted) : total_(total), enabled_(wanted && isatty(STDERR_FILENO)) {}
+  ~Progress() {
+    if (enabled_ && drawn_) std::cerr << "\r" << std::string(width_, ' ') << "\r" << std::flush;
+  }
+  void start(const std::string& what) {
+    if (!enabled_) return;
+    constexpr std::size_t kBar = 30;
+    const std::size_t filled = total_ ? kBar * done_ / total_ : kBar;
+    const auto elapsed = std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - begin_);
+    std::ostringstream line;
+    line << "[" << std::string(filled, '#') << std::string(kBar - filled, '.') << "] " << done_ << "/" << total_ << "  "
+         << elapsed.count() << " s  " << what;
+    std::string text = line.str().substr(0, 110);
+    width_ = std::max(width_, text.size());
+    text.resize(width_, ' ');
+    std::cerr << "\r" << text << std::flush;
+    drawn_ = true;
+    ++done_;
+  }
+
+ private:
+  std::size_t total_, done_ = 0, width_ = 0;
+  bool enabled_, drawn_ = false;
+  std::chrono::steady_clock::time_point begin_ = std::chrono::steady_clock::now();
+};
+
+// The median frame of the measured ones, with the spread in its stats.
+Frame medianFrame(std::vector<Frame>& runs) {
+  std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
+  Frame median = std::move(runs[runs.size() / 2]);
+  median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
+  return median;
+}
+
+// The simulated trace bandwidth, wherever the stats JSON carries it (null when no simulator ran).
+nlohmann::json findKey(const nlohmann::json& j, const std::string& key) {
+  if (!j.is_object()) return nullptr;
+  if (j.contains(key)) return j[key];
+  for (const auto& [name, value] : j.items()) {
+    nlohmann::json found = findKey(value, key);
+    if (!found.is_null()) return found;
+  }
+  return nullptr;
+}
+
+struct Group {
+  std::string scene;
+  float lightSize = 0.0f;
+  RunConfig reference;  // the run options of the group's reference (and base of its configurations)
+  std::vector<SweepConfig> configs;
+};
+
+std::uint32_t referenceSppOf(const Sweep& sweep, const std::vector<SweepConfig>& configs) {
+  if (sweep.referenceSpp) return sweep.referenceSpp;
+  if (sweep.base.referenceSpp) return sweep.base.referenceSpp;
+  std::uint32_t spp = 0;
+  for (const SweepConfig& c : configs) {
+    if (const std::string* v = findParam(c.params, "--spp")) spp = std::max<std::uint32_t>(spp, std::stoul(*v));
+  }
+  return spp ? spp : sweep.base.spp;
+}
+
+}  // namespace
+
+std::string paramText(const std::string& option, const std::string& value) {
+  const std::string name = shortName(option);
+  return name.empty() ? value : name + "=" + value;
+}
+
+const std::string* findParam(const RunOptions& params, const std::string& option) {
+  for (const auto& [name, value] : params) {
+    if (name == option) return &value;
+  }
+  return nullptr;
+}
+
+void applyRunOptions(RunConfig& config, const RunOptions& options) {
+  if (options.empty()) return;
+  CLI::App parser{"sweep configuration"};
+  addRunOptions(parser, config);
+  std::vector<std::string> args;
+  for (const auto& [option, value] : options) {
+    if (!parser.get_option_no_throw(option)) {
+      throw InputError(option + " is not an option of this build's renderer, so it cannot be swept (see render --help)");
+    }
+    args.push_back(option);
+    args.push_back(value);
+  }
+  std::reverse(args.begin(), args.end());  // CLI11 takes the arguments last first
+  try {
+    parser.parse(args);
+  } catch (const CLI::ParseError& e) {
+    throw InputError(std::string(e.what()));
+  }
+}
+
+std::string machineDescription() {
+  std::string cpu = "unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);) {
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  const double gib = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) / double(1ull << 30);
+  utsname names{};
+  uname(&names);
+  std::ostringstream out;
+  out << cpu << ", " << std::thread::hardware_concurrency() << " threads, " << std::lround(gib) << " GiB, "
+      << names.machine;
+  return out.str();
+}
+
+SweepResult runSweep(const Sweep& sweep) {
+  if (sweep.scenes.empty() || sweep.lightSizes.empty()) throw InputError("the sweep needs at least one scene and light size");
+  // View files pin each group's camera and light, so every configuration sees exactly the
+  // reference's (and default cameras are printed once, not once per configuration).
+  const fs::path views = fs::temp_directory_path() / ("penumbra-sweep-" + std::to_string(getpid()));
+  fs::create_directories(views);
+  struct RemoveViews {
+    fs::path dir;
+    ~RemoveViews() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } removeViews{views};
+
+  // Everything is checked before the first frame: scenes, light sizes, every parameter value.
+  std::vector<Group> groups;
+  for (const std::string& scene : sweep.scenes) {
+    for (float lightSize : sweep.lightSizes) {
+      Group g{scene, lightSize, sweep.base, sweep.configsFor(lightSize)};
+      if (g.configs.empty()) throw InputError("the sweep has nothing to run besides the reference; name --methods");
+      g.reference.scene = scene;
+      g.reference.lightSize = lightSize;
+      g.reference.lightSizeGiven = true;
+      g.reference.referenceSpp = referenceSppOf(sweep, g.configs);
+      g.reference.saveView.clear();
+      if (sweep.base.viewFile.empty()) g.reference.saveView = (views / ("group" + std::to_string(groups.size()) + ".json")).string();
+      prepareRun(g.reference, {"ref"});
+      if (!g.reference.saveView.empty()) g.reference.viewFile = g.reference.saveView;
+      g.reference.saveView.clear();
+      if (groups.empty() || scene == sweep.scenes.front()) {
+        for (const SweepConfig& c : g.configs) {
+          RunConfig run = g.reference;
+          applyRunOptions(run, c.params);
+          quietPrepare(run, c.method);
+        }
+      }
+      groups.push_back(std::move(g));
+    }
+  }
+
+  SweepResult result;
+  result.machine = machineDescription();
+  gpu::Context context({.validate = sweep.base.validate});
+  result.device = context.deviceName();
+  result.driver = context.driverInfo();
+  std::size_t total = 0;
+  for (const Group& g : groups) total += 1 + g.configs.size();
+  Progress progress(total, sweep.progress);
+
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    const Group& g = groups[gi];
+    std::ostringstream groupName;
+    groupName << std::setw(2) << std::setfill('0') << gi << "_" << slug(g.scene) << "_light" << slug(shortNumber(g.lightSize));
+    const std::string imagesDir = sweep.imagesDir.empty() ? "" : sweep.imagesDir + "/" + groupName.str();
+    const std::string imagesRel = "frames/" + groupName.str() + "/";
+    if (!imagesDir.empty()) fs::create_directories(imagesDir);
+
+    std::uint32_t referenceSpp = 0;  // samples per pixel the reference took (1 for point lights)
+    auto row = [&](const Frame& f, const nlohmann::json& run, const SweepConfig* config, double referenceMs) {
+      const FrameStats& s = f.stats;
+      const nlohmann::json stats = s.toJson();
+      nlohmann::json params = nlohmann::json::object();
+      std::string paramsLabel;
+      if (config) {
+        for (const auto& [option, value] : config->params) {
+          params[option.substr(2)] = value;
+          paramsLabel += (paramsLabel.empty() ? "" : " ") + paramText(option, value);
+        }
+      }
+      nlohmann::json passes = nlohmann::json::object();
+      for (const auto& [pass, ms] : s.passMs) passes[pass] = ms;
+      const double nodesPerRay =
+          s.nodeVisits && s.raysTraced && *s.raysTraced ? double(*s.nodeVisits) / double(*s.raysTraced) : 0.0;
+      return nlohmann::json{
+          {"scene", g.scene},
+          {"triangles", run["triangles"]},
+          {"width", f.width},
+          {"height", f.height},
+          {"light_size", tidy(g.lightSize)},
+          {"spp", s.samplesPerPixel},
+          {"reference_spp", referenceSpp},
+          {"method", s.method},
+          {"label", config ? config->label : s.method},
+          {"params", params},
+          {"params_label", paramsLabel},
+          {"tracer", stats["tracer"]},
+          {"shadow_map_res", run["shadow_map_res"]},
+          {"pcf_kernel", run["pcf_kernel"]},
+          {"pip_delta", tidy(run["pip"]["delta"].get<float>())},
+          {"msm_maps", run["msm_maps"]},
+          {"time_ms", s.totalMs},
+          {"time_min_ms", s.totalSpreadMs ? s.totalSpreadMs->minMs : s.totalMs},
+          {"time_max_ms", s.totalSpreadMs ? s.totalSpreadMs->maxMs : s.totalMs},
+          {"runs", s.totalSpreadMs ? s.totalSpreadMs->runs : 1u},
+          {"warmup", g.reference.warmup},
+          {"speedup_vs_ref", s.totalMs > 0.0 ? nlohmann::json(referenceMs / s.totalMs) : nlohmann::json(nullptr)},
+          {"pip_fraction", stats["pip_fraction"]},
+          {"rays_traced", stats["rays_traced"]},
+          {"node_visits_per_ray", s.nodeVisits ? nlohmann::json(nodesPerRay) : nlohmann::json(nullptr)},
+          {"error", stats["error"]},
+          {"flip_mean", findKey(stats, "flip_mean")},
+          {"pip_miss_fraction", stats["pip_miss_fraction"]},
+          {"penumbra_miss_fraction", stats["penumbra_miss_fraction"]},
+          {"trace_bytes_simulated", findKey(stats, "trace_bytes_simulated")},
+          {"passes", passes},
+          {"stats", stats},
+          {"run", run},
+          {"images", nlohmann::json::object()},
+          {"machine", result.machine},
+          {"cpu_threads", std::thread::hardware_concurrency()},
+          {"device", result.device},
+          {"driver", result.driver}};
+    };
+
+    // Jobs: the reference first, then each configuration, all on the group's one loaded scene.
+    const RunSetup refSetup = quietPrepare(g.reference, "ref");
+    struct Job {
+      const SweepConfig* config;  // null for the reference
+      std::string method;
+      RunConfig runConfig;
+      RunSetup setup;  // its scene stays empty: every job renders refSetup.scene
+      nlohmann::json run;
+      std::unique_ptr<Renderer> renderer;
+      std::vector<Frame> runs;
+    };
+    std::vector<Job> jobs;
+    jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}});
+    for (const SweepConfig& config : g.configs) {
+      RunConfig runConfig = g.reference;
+      applyRunOptions(runConfig, config.params);
+      RunSetup setup = quietPrepare(runConfig, config.method);
+      nlohmann::json run = describeRun(runConfig, setup, context);
+      setup.scene = Scene{};
+      jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}});
+    }
+    auto start = [&](Job& job) {
+      progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : "ref"));
+      const RunSetup& s = job.config ? job.setup : refSetup;
+      job.renderer = std::make_unique<Renderer>(context, refSetup.scene, s.settings);
+      for (std::uint32_t i = 0; i < job.runConfig.warmup; ++i) job.renderer->render(job.method, s.camera, s.light);
+    };
+    auto measure = [&](Job& job) {
+      const RunSetup& s = job.config ? job.setup : refSetup;
+      job.runs.push_back(job.renderer->render(job.method, s.camera, s.light));
+    };
+    if (sweep.interleave) {
+      // Round-robin: load on a shared machine falls on every configuration alike.
+      for (Job& job : jobs) start(job);
+      for (std::uint32_t round = 0; round < sweep.base.repeat; ++round) {
+        for (Job& job : jobs) measure(job);
+      }
+      for (Job& job : jobs) job.renderer.reset();
+    } else {
+      for (Job& job : jobs) {
+        start(job);
+        for (std::uint32_t i = 0; i < job.runConfig.repeat; ++i) measure(job);
+        job.renderer.reset();
+      }
+    }
+
+    const Frame reference = medianFrame(jobs[0].runs);
+    referenceSpp = reference.stats.samplesPerPixel;
+    const bool soft = refSetup.light.size > 0.0f;
+    const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
+    nlohmann::json refRow = row(reference, jobs[0].run, nullptr, reference.stats.totalMs);
+    if (!imagesDir.empty()) {
+      writeFrame(imagesDir, reference, jobs[0].run);
+      refRow["images"] = {{"image", imagesRel + "ref.png"}};
+    }
+    result.rows.push_back(refRow);
+
+    std::vector<std::string> pictured;
+    for (std::size_t j = 1; j < jobs.size(); ++j) {
+      const SweepConfig& config = *jobs[j].config;
+      const nlohmann::json& run = jobs[j].run;
+      Frame frame = medianFrame(jobs[j].runs);
+      jobs[j].runs.clear();
+      frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, threshold);
+      const bool picture = !imagesDir.empty() && std::find(pictured.begin(), pictured.end(), config.method) == pictured.end();
+      std::vector<float> flip;
+      frame.stats.imageError =
+          compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, picture ? &flip : nullptr);
+      if (!frame.pip.empty()) {
+        frame.stats.pipMissFraction =
+            missFraction(frame.shadowMapVisibility, reference.visibility, reference.covered, frame.pip, threshold);
+        if (soft) frame.stats.penumbraMissFraction = penumbraMissFraction(reference.visibility, reference.covered, frame.pip);
+      }
+      nlohmann::json r = row(frame, run, &config, reference.stats.totalMs);
+      // Images of each method's first configuration: the page shows them beside the reference.
+      if (picture) {
+        pictured.push_back(config.method);
+        writeFrame(imagesDir, frame, run);
+        writeHeatmap(imagesDir, frame, reference, soft ? 0.25f : 1.0f);
+        writePngRgba8(imagesDir + "/" + config.method + ".flip.png", int(frame.width), int(frame.height),
+                      flipHeatmap(flip, reference.covered));
+        r["images"] = {{"image", imagesRel + config.method + ".png"}, {"heatmap", imagesRel + config.method + ".heatmap.png"},
+                       {"flip", imagesRel + config.method + ".flip.png"}};
+        if (!frame.pip.empty()) r["images"]["pip"] = imagesRel + config.method + ".pip.png";
+      }
+      result.rows.push_back(std::move(r));
+    }
+  }
+  const auto messages = context.validationMessages();
+  if (!messages.empty()) {
+    throw std::runtime_error(std::to_string(messages.size()) + " Vulkan validation message(s) during the sweep, see above");
+  }
+  return result;
+}
+
+void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
+  static const char* const columns[] = {
+      "scene", "triangles", "width", "height", "light_size", "spp", "reference_spp", "method", "label", "params_label",
+      "tracer", "shadow_map_res", "pcf_kernel", "pip_delta", "msm_maps", "time_ms", "time_min_ms", "time_max_ms", "runs",
+      "warmup", "speedup_vs_ref", "pip_fraction", "rays_traced", "node_visits_per_ray", "wrong_pixel_fraction", "rmse",
+      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "passes", "machine",
+      "cpu_threads", "device", "driver"};
+  auto field = [](const nlohmann::json& v) -> std::string {
+    if (v.is_null()) return "";
+    std::string text = v.is_string() ? v.get<std::string>() : v.dump();
+    if (text.find_first_of(",\"\n") == std::string::npos) return text;
+    std::string quoted = "\"";
+    for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
+  };
+  std::ofstream out(path);
+  for (std::size_t i = 0; i < std::size(columns); ++i) out << (i ? "," : "") << columns[i];
+  out << "\n";
+  for (const nlohmann::json& r : rows) {
+    for (std::size_t i = 0; i < std::size(columns); ++i) {
+      const std::string c = columns[i];
+      nlohmann::json v;
+      if (c == "wrong_pixel_fraction" || c == "rmse" || c == "mae") v = r["error"].is_null() ? nullptr : r["error"][c];
+      else if (c == "max_error") v = r["error"].is_null() ? nullptr : r["error"]["max"];
+      else if (c == "passes") {
+        std::string passes;
+        for (const auto& [pass, ms] : r["passes"].items()) passes += (passes.empty() ? "" : ";") + pass + "=" + ms.dump();
+        v = passes;
+      } else v = r[c];
+      out << (i ? "," : "") << field(v);
+    }
+    out << "\n";
+  }
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+void printSweepSummary(const nlohmann::json& rows, std::ostream& out) {
+  out << std::left << std::setw(22) << "scene" << std::setw(7) << "light" << std::setw(30) << "configuration" << std::right
+      << std::setw(10) << "ms" << std::setw(16) << "min-max" << std::setw(8) << "pip %" << std::setw(10) << "wrong %"
+      << std::setw(10) << "rmse" << "\n";
+  for (const nlohmann::json& r : rows) {
+    std::ostringstream spread, pip, wrong, rmse;
+    spread << std::fixed << std::setprecision(1) << r["time_min_ms"].get<double>() << "-" << r["time_max_ms"].get<double>();
+    if (r["pip_fraction"].is_null()) pip << "-";
+    else pip << std::fixed << std::setprecision(2) << 100.0 * r["pip_fraction"].get<double>();
+    if (r["error"].is_null()) wrong << "-", rmse << "-";
+    else {
+      wrong << std::fixed << std::setprecision(3) << 100.0 * r["error"]["wrong_pixel_fraction"].get<double>();
+      rmse << std::fixed << std::setprecision(4) << r["error"]["rmse"].get<double>();
+    }
+    out << std::left << std::setw(22) << r["scene"].get<std::string>() << std::setw(7) << shortNumber(r["light_size"].get<float>())
+        << std::setw(30) << r["label"].get<std::string>() << std::right << std::fixed << std::setprecision(1) << std::setw(10)
+        << r["time_ms"].get<double>() << std::setw(16) << spread.str() << std::setw(8) << pip.str() << std::setw(10)
+        << wrong.str() << std::setw(10) << rmse.str() << "\n";
+  }
+}
+
+}  // namespace penumbra

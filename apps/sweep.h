@@ -1,0 +1,86 @@
+// The sweep engine of `penumbra bench` and `penumbra tune`: every configuration gets a warm-up,
+// repeated frames (median reported with min/max) and its error against the Embree reference of its
+// scene and light; rows carry machine, driver and device. The parameters a sweep can vary are listed
+// once (sweepAxes), with the methods each one changes.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/run_config.h"
+
+namespace penumbra {
+
+// A parameter axis: the bench option naming its list, the run option it sets, the methods it changes
+// (other methods are not re-run for each value), and the short name used in chart labels.
+struct AxisDef {
+  const char* names;   // CLI11 names of the bench option
+  const char* option;  // the run option (addRunOptions) it sets
+  const char* shortName;
+  std::vector<std::string> methods;
+  bool areaLightOnly = false;  // samples per pixel mean nothing for a point light
+  bool lineSpaceOnly = false;  // only with the line-space tracer (method ls, or srt/frt with --tracer ls)
+  const char* help = "";
+};
+
+// Every sweepable parameter. Order matters: --tracer comes before the line-space axes, which depend on it.
+const std::vector<AxisDef>& sweepAxes();
+
+// Run options as the command line spells them, e.g. {"--shadow-map-res", "1024"}.
+using RunOptions = std::vector<std::pair<std::string, std::string>>;
+
+// A parameter as chart labels show it ("res=1024"; the bare value for axes without a short name).
+std::string paramText(const std::string& option, const std::string& value);
+// The value `params` give `option`, or nullptr.
+const std::string* findParam(const RunOptions& params, const std::string& option);
+
+// Applies options through the very parser `render` and `compare` use (addRunOptions), so every run
+// option, including ones later methods add, can be swept and is checked the same way. InputError
+// when an option does not exist in this build or a value is refused.
+void applyRunOptions(RunConfig& config, const RunOptions& options);
+
+// One configuration of a sweep: a method and the run options that set its parameters.
+struct SweepConfig {
+  std::string method;
+  RunOptions params;
+  std::string label;  // the method and the parameters that vary in the sweep, for charts and tables
+};
+
+struct Sweep {
+  RunConfig base;  // shared by every run: resolution, camera, light, warm-up, repeat, validation, ...
+  std::vector<std::string> scenes;
+  std::vector<float> lightSizes{0.0f};
+  // The configurations to run at one light size (parameters that only matter for area lights drop out at 0).
+  std::function<std::vector<SweepConfig>(float lightSize)> configsFor;
+  std::uint32_t referenceSpp = 0;  // 0: the largest --spp among the configurations, else base.spp
+  std::string imagesDir;           // set: images of ref and each method's first configuration per group
+  bool progress = true;            // a progress bar on stderr when it is a terminal
+  // Measure round-robin (one frame of each configuration per round, all renderers alive) rather than
+  // each configuration's frames back to back: on a shared machine, load then falls on all alike.
+  bool interleave = false;
+};
+
+struct SweepResult {
+  nlohmann::json rows = nlohmann::json::array();  // one per configuration and one per reference
+  std::string machine, device, driver;
+};
+
+// Checks every scene, light size and parameter value first (InputError before any output), then
+// renders. Vulkan validation messages (with base.validate) make it throw.
+SweepResult runSweep(const Sweep& sweep);
+
+// CPU model, hardware threads, memory and architecture, e.g. "AMD EPYC 7B13, 2 threads, 24 GiB, x86_64".
+std::string machineDescription();
+
+// One CSV row per JSON row (header first; fields quoted where needed).
+void writeBenchCsv(const std::string& path, const nlohmann::json& rows);
+
+// Prints label, time, PIP and error per row.
+void printSweepSummary(const nlohmann::json& rows, std::ostream& out);
+
+}  // namespace penumbra
