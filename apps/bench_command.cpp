@@ -101,6 +101,10 @@ BenchCommand::BenchCommand(CLI::App& app) {
   for (std::size_t i = 0; i < sweepAxes().size(); ++i) command_->add_option(sweepAxes()[i].names, axisValues_[i], sweepAxes()[i].help);
   command_->add_option("--reference-spp", referenceSpp_,
                        "Light samples per pixel of the reference (default: the largest --spp of the sweep)");
+  command_->add_option("--temporal-frames", temporalFrames_,
+                       "Temporal stability: frames per configuration (and the reference) under a light circling 0.25 "
+                       "degrees per frame; rows get the mean frame-to-frame visibility change (0 or 1 = off)")
+      ->capture_default_str();
   command_->add_flag("--no-images", noImages_, "Do not write the images of each method's first configuration");
   command_->add_flag("--no-report", noReport_, "Do not run report.py (charts and report.html)");
 }
@@ -135,6 +139,7 @@ int BenchCommand::run() {
   }
   sweep.configsFor = [methods, axes, base = base_](float lightSize) { return expandConfigs(methods, axes, base, lightSize); };
   sweep.referenceSpp = referenceSpp_;
+  sweep.temporalFrames = temporalFrames_;
   sweep.imagesDir = noImages_ ? "" : base_.outDir + "/frames";
 
   const SweepResult result = runSweep(sweep);

@@ -27,6 +27,7 @@ class BenchCommand {
   std::string methods_ = "sm,pcf,srt,frt", scenes_ = "builtin:courtyard", lightSizes_ = "0";
   std::vector<std::string> axisValues_;  // per parameter axis (see bench_command.cpp), comma-separated
   std::uint32_t referenceSpp_ = 0;
+  std::uint32_t temporalFrames_ = 3;  // temporal stability frames per configuration
   bool noReport_ = false, noImages_ = false;
 };
 

@@ -19,6 +19,8 @@ struct RunConfig {
   std::string camera, light, viewFile, saveView;
   float lightSize = 0.0f;
   bool lightSizeGiven = false;
+  double time = 0.0;  // animated scenes: pose at this many seconds
+  bool timeGiven = false;
   std::uint32_t spp = 16, referenceSpp = 0;
   std::string resolution = "256x256";
   std::uint32_t shadowMapRes = 2048;
@@ -48,6 +50,7 @@ struct RunSetup {
   Camera camera;
   Light light;
   float lightSizeFraction = 0.0f;
+  double time = 0.0;  // the scene is posed at this time
   RenderSettings settings;
 };
 

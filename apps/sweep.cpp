@@ -1,5 +1,6 @@
 #include "apps/sweep.h"
 
+
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -9,6 +10,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -18,6 +20,7 @@
 #include "core/flip.h"
 #include "core/image_io.h"
 #include "core/metrics.h"
+#include "core/view.h"
 #include "hybrid/frame_output.h"
 #include "hybrid/method.h"
 
@@ -336,16 +339,17 @@ SweepResult runSweep(const Sweep& sweep) {
       nlohmann::json run;
       std::unique_ptr<Renderer> renderer;
       std::vector<Frame> runs;
+      std::optional<double> temporalChange;  // with sweep.temporalFrames
     };
     std::vector<Job> jobs;
-    jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}});
+    jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
     for (const SweepConfig& config : g.configs) {
       RunConfig runConfig = g.reference;
       applyRunOptions(runConfig, config.params);
       RunSetup setup = quietPrepare(runConfig, config.method);
       nlohmann::json run = describeRun(runConfig, setup, context);
       setup.scene = Scene{};
-      jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}});
+      jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}, {}});
     }
     auto start = [&](Job& job) {
       progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : "ref"));
@@ -357,17 +361,36 @@ SweepResult runSweep(const Sweep& sweep) {
       const RunSetup& s = job.config ? job.setup : refSetup;
       job.runs.push_back(job.renderer->render(job.method, s.camera, s.light));
     };
+    // The mean change between consecutive frames under the slowly circling light (untimed frames).
+    auto temporal = [&](Job& job) {
+      if (sweep.temporalFrames < 2) return;
+      const RunSetup& s = job.config ? job.setup : refSetup;
+      const Bounds bounds = refSetup.scene.bounds();
+      std::optional<Frame> previous;
+      double sum = 0.0;
+      for (std::uint32_t i = 0; i < sweep.temporalFrames; ++i) {
+        const Light light = orbitLight(s.light, bounds, sweep.temporalStepDeg * float(i));
+        Frame frame = job.renderer->render(job.method, s.camera, light);
+        if (previous) sum += temporalChange(previous->visibility, frame.visibility, previous->covered, frame.covered);
+        previous = std::move(frame);
+      }
+      job.temporalChange = sum / double(sweep.temporalFrames - 1);
+    };
     if (sweep.interleave) {
       // Round-robin: load on a shared machine falls on every configuration alike.
       for (Job& job : jobs) start(job);
       for (std::uint32_t round = 0; round < sweep.base.repeat; ++round) {
         for (Job& job : jobs) measure(job);
       }
-      for (Job& job : jobs) job.renderer.reset();
+      for (Job& job : jobs) {
+        temporal(job);
+        job.renderer.reset();
+      }
     } else {
       for (Job& job : jobs) {
         start(job);
         for (std::uint32_t i = 0; i < job.runConfig.repeat; ++i) measure(job);
+        temporal(job);
         job.renderer.reset();
       }
     }
@@ -377,6 +400,8 @@ SweepResult runSweep(const Sweep& sweep) {
     const bool soft = refSetup.light.size > 0.0f;
     const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
     nlohmann::json refRow = row(reference, jobs[0].run, nullptr, reference.stats.totalMs);
+    const auto orNull = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+    refRow["temporal_change"] = refRow["ref_temporal_change"] = orNull(jobs[0].temporalChange);
     if (!imagesDir.empty()) {
       writeFrame(imagesDir, reference, jobs[0].run);
       refRow["images"] = {{"image", imagesRel + "ref.png"}};
@@ -400,6 +425,8 @@ SweepResult runSweep(const Sweep& sweep) {
         if (soft) frame.stats.penumbraMissFraction = penumbraMissFraction(reference.visibility, reference.covered, frame.pip);
       }
       nlohmann::json r = row(frame, run, &config, reference.stats.totalMs);
+      r["temporal_change"] = orNull(jobs[j].temporalChange);
+      r["ref_temporal_change"] = refRow["ref_temporal_change"];
       // Images of each method's first configuration: the page shows them beside the reference.
       if (picture) {
         pictured.push_back(config.method);
@@ -426,7 +453,7 @@ void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
       "scene", "triangles", "width", "height", "light_size", "spp", "reference_spp", "method", "label", "params_label",
       "tracer", "shadow_map_res", "pcf_kernel", "pip_delta", "msm_maps", "time_ms", "time_min_ms", "time_max_ms", "runs",
       "warmup", "speedup_vs_ref", "pip_fraction", "rays_traced", "node_visits_per_ray", "wrong_pixel_fraction", "rmse",
-      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "passes", "machine",
+      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "temporal_change", "ref_temporal_change", "passes", "machine",
       "cpu_threads", "device", "driver"};
   auto field = [](const nlohmann::json& v) -> std::string {
     if (v.is_null()) return "";
@@ -460,9 +487,9 @@ void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
 void printSweepSummary(const nlohmann::json& rows, std::ostream& out) {
   out << std::left << std::setw(22) << "scene" << std::setw(7) << "light" << std::setw(30) << "configuration" << std::right
       << std::setw(10) << "ms" << std::setw(16) << "min-max" << std::setw(8) << "pip %" << std::setw(10) << "wrong %"
-      << std::setw(10) << "rmse" << "\n";
+      << std::setw(10) << "rmse" << std::setw(12) << "temporal" << "\n";
   for (const nlohmann::json& r : rows) {
-    std::ostringstream spread, pip, wrong, rmse;
+    std::ostringstream spread, pip, wrong, rmse, temporal;
     spread << std::fixed << std::setprecision(1) << r["time_min_ms"].get<double>() << "-" << r["time_max_ms"].get<double>();
     if (r["pip_fraction"].is_null()) pip << "-";
     else pip << std::fixed << std::setprecision(2) << 100.0 * r["pip_fraction"].get<double>();
@@ -471,10 +498,12 @@ void printSweepSummary(const nlohmann::json& rows, std::ostream& out) {
       wrong << std::fixed << std::setprecision(3) << 100.0 * r["error"]["wrong_pixel_fraction"].get<double>();
       rmse << std::fixed << std::setprecision(4) << r["error"]["rmse"].get<double>();
     }
+    if (!r.contains("temporal_change") || r["temporal_change"].is_null()) temporal << "-";
+    else temporal << std::setprecision(3) << std::scientific << r["temporal_change"].get<double>();
     out << std::left << std::setw(22) << r["scene"].get<std::string>() << std::setw(7) << shortNumber(r["light_size"].get<float>())
         << std::setw(30) << r["label"].get<std::string>() << std::right << std::fixed << std::setprecision(1) << std::setw(10)
         << r["time_ms"].get<double>() << std::setw(16) << spread.str() << std::setw(8) << pip.str() << std::setw(10)
-        << wrong.str() << std::setw(10) << rmse.str() << "\n";
+        << wrong.str() << std::setw(10) << rmse.str() << std::setw(12) << temporal.str() << "\n";
   }
 }
 

@@ -63,6 +63,11 @@ struct Sweep {
   // Measure round-robin (one frame of each configuration per round, all renderers alive) rather than
   // each configuration's frames back to back: on a shared machine, load then falls on all alike.
   bool interleave = false;
+  // Temporal stability: after its measured frames, each configuration (and the reference) renders
+  // this many more frames with the light circling by temporalStepDeg per frame; rows get the mean
+  // frame-to-frame change of the visibility (temporal_change) and the reference's (ref_temporal_change).
+  std::uint32_t temporalFrames = 0;
+  float temporalStepDeg = 0.25f;
 };
 
 struct SweepResult {

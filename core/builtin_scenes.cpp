@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "core/animation.h"
 #include "core/mesh_builder.h"
 
 namespace penumbra {
@@ -90,6 +91,31 @@ Scene courtyard(int level) {
   camera.target = {0.8f, 0.0f, 0.6f};
   camera.fovYDeg = 45.0f;
   scene.camera = camera;
+  return scene;
+}
+
+// The courtyard with a drone (a flat body and two crossed rotor bars, 0.06 thick) flying a circle
+// 3.6 above the ground and spinning as it goes: a rigid animation, looped every 8 s.
+Scene courtyardMoving(int level) {
+  Scene scene = courtyard(level);
+  scene.name = "builtin:courtyard-moving";
+  Mesh& drone = addMesh(scene, "drone", {0.90f, 0.45f, 0.10f});
+  mesh::addBox(drone, {0.0f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f}, {0.0f, 0.12f, 0.0f}, {0.0f, 0.0f, 0.5f});
+  mesh::addBox(drone, {0.0f, 0.18f, 0.0f}, {1.6f, 0.0f, 0.0f}, {0.0f, 0.02f, 0.0f}, {0.0f, 0.0f, 0.03f});
+  mesh::addBox(drone, {0.0f, 0.18f, 0.0f}, {0.0f, 0.0f, 0.03f}, {0.0f, 0.02f, 0.0f}, {-1.6f, 0.0f, 0.0f});
+  // 16 segments a lap; per segment the heading turns 22.5 and the spin 67.5 degrees (< 180, so
+  // slerp turns the intended way).
+  std::vector<RigidKey> keys;
+  for (int k = 0; k <= 16; ++k) {
+    const float a = glm::radians(22.5f * float(k));
+    RigidKey key;
+    key.time = 0.5f * float(k);
+    key.translation = {0.5f + 3.5f * std::cos(a), 3.6f, 0.5f - 3.5f * std::sin(a)};
+    key.rotation = glm::angleAxis(glm::radians(90.0f * float(k)), glm::vec3(0.0f, 1.0f, 0.0f));
+    keys.push_back(key);
+  }
+  animateMesh(scene, scene.meshes.size() - 1, std::move(keys));
+  poseScene(scene, 0.0);
   return scene;
 }
 
@@ -187,13 +213,13 @@ Scene room() {
 std::string usage() {
   std::string names;
   for (const std::string& name : builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-  return "use builtin:NAME with NAME one of " + names + ", or builtin:courtyard:LEVEL with LEVEL an integer in 1.." +
+  return "use builtin:NAME with NAME one of " + names + ", or builtin:courtyard[-moving]:LEVEL with LEVEL an integer in 1.." +
          std::to_string(kMaxCourtyardLevel) + " (default " + std::to_string(kDefaultCourtyardLevel) + ")";
 }
 
 }  // namespace
 
-std::vector<std::string> builtinSceneNames() { return {"courtyard", "wires", "square", "room"}; }
+std::vector<std::string> builtinSceneNames() { return {"courtyard", "courtyard-moving", "wires", "square", "room"}; }
 
 Scene makeBuiltinScene(const std::string& nameAndLevel) {
   std::string spec = nameAndLevel;
@@ -203,7 +229,7 @@ Scene makeBuiltinScene(const std::string& nameAndLevel) {
   const bool hasLevel = colon != std::string::npos;
   const std::string levelText = hasLevel ? spec.substr(colon + 1) : std::string();
 
-  if (name == "courtyard") {
+  if (name == "courtyard" || name == "courtyard-moving") {
     int level = kDefaultCourtyardLevel;
     if (hasLevel) {
       const char* begin = levelText.data();
@@ -213,7 +239,7 @@ Scene makeBuiltinScene(const std::string& nameAndLevel) {
         throw InputError("built-in scene 'builtin:" + spec + "' has the bad level '" + levelText + "'; " + usage());
       }
     }
-    return courtyard(level);
+    return name == "courtyard" ? courtyard(level) : courtyardMoving(level);
   }
   Scene (*make)() = name == "wires" ? wires : name == "square" ? square : name == "room" ? room : nullptr;
   if (make == nullptr) {

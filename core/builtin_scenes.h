@@ -1,4 +1,4 @@
-// Procedural scenes selectable as "builtin:NAME" or "builtin:courtyard:LEVEL" (LEVEL = tessellation).
+// Procedural scenes selectable as "builtin:NAME" or "builtin:courtyard[-moving]:LEVEL" (LEVEL = tessellation).
 // Each comes with its default camera and light.
 #pragma once
 #include <string>
@@ -10,7 +10,7 @@ namespace penumbra {
 
 // All scenes: Y up, per-vertex unit normals (flat on boxes and planes), triangles counter-clockwise
 // seen from the side the normals face, one base colour per object, one light, a camera, and
-// scene.name "builtin:NAME". cleanScene drops none of their triangles. Only courtyard takes a
+// scene.name "builtin:NAME". cleanScene drops none of their triangles. Only the courtyards take a
 // LEVEL; any other level, or an unknown name, is an InputError listing the names and the syntax.
 //
 // courtyard[:LEVEL] (LEVEL 1..512, default 8): 24 x 24 ground grid at y = 0 (8*LEVEL cells a side),
@@ -23,6 +23,9 @@ namespace penumbra {
 //              128: 6,833,560   512: 73,741,720 (gigabytes of memory)
 //            Light: Disk, size 0, at (-16, 22, -1) facing the bounds centre (0, 2, 0).
 //            Camera: eye (7, 17, 22), target (0.8, 0, 0.6), fovy 45; all objects and shadows in view.
+// courtyard-moving[:LEVEL]: the courtyard plus a dynamic "drone" (a 1 x 0.24 x 1 body and two
+//            crossed 3.2 x 0.04 x 0.06 rotor bars, 36 triangles) animated by rigid keys (core/animation.h):
+//            a circle of radius 3.5 about (0.5, 3.6, 0.5), spinning, looped every 8 s. Posed at t = 0.
 // wires:     40 x 40 ground (2 triangles) at y = 0 under 10 + 10 wires (boxes 0.012 thick, 3 long,
 //            0.3 apart, turned 7 degrees about y) at y = 1.0 and 1.02. Radius 28.29, so a 2048^2
 //            shadow-map texel over the bounding sphere is 0.0276 (wires < half a texel).

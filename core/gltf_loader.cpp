@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>  // implementation lives in the shared libtinygltf
 
+#include "core/gltf_accessor.h"
+#include "core/gltf_animation.h"
 #include "core/scene_loader.h"
 
 namespace penumbra {
@@ -25,9 +27,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& problem, const std::string& fix) {
-  throw InputError("glTF '" + path + "': " + problem + "; " + fix);
-}
+using gltf::ElementView;
+using gltf::fail;
+using gltf::readIndices;
+using gltf::readVec3;
+using gltf::viewAccessor;
 
 std::vector<unsigned char> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -150,100 +154,6 @@ void checkUris(const std::string& jsonText, const std::string& path, const std::
   }
 }
 
-// Bounds-checked view of one accessor's elements.
-struct ElementView {
-  const unsigned char* base = nullptr;
-  std::size_t count = 0, stride = 0;
-  int componentType = 0;
-};
-
-ElementView viewAccessor(const tinygltf::Model& model, int index, const std::string& what, const std::string& path) {
-  const std::string name = what + " accessor " + std::to_string(index);
-  const std::string fix = "the file is corrupt; re-export it";
-  if (index < 0 || std::size_t(index) >= model.accessors.size()) {
-    fail(path, name + " does not exist (the file has " + std::to_string(model.accessors.size()) + " accessors)", fix);
-  }
-  const tinygltf::Accessor& acc = model.accessors[std::size_t(index)];
-  if (acc.sparse.isSparse) fail(path, name + " is sparse, which is not supported", "re-export without sparse accessors");
-  const bool vec3 = what != "indices";
-  const bool typeOk = vec3 ? acc.type == TINYGLTF_TYPE_VEC3 && acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT
-                           : acc.type == TINYGLTF_TYPE_SCALAR && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                                                  acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
-                                                                  acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
-  if (!typeOk) {
-    fail(path, name + " has type " + std::to_string(acc.type) + " / componentType " + std::to_string(acc.componentType) +
-         (vec3 ? ", expected FLOAT VEC3" : ", expected an unsigned SCALAR"), "re-export with standard vertex formats");
-  }
-  if (acc.bufferView < 0 || std::size_t(acc.bufferView) >= model.bufferViews.size()) {
-    fail(path, name + " refers to bufferView " + std::to_string(acc.bufferView) + ", which does not exist", fix);
-  }
-  const tinygltf::BufferView& view = model.bufferViews[std::size_t(acc.bufferView)];
-  if (view.buffer < 0 || std::size_t(view.buffer) >= model.buffers.size()) {
-    fail(path, "bufferView " + std::to_string(acc.bufferView) + " refers to missing buffer " + std::to_string(view.buffer), fix);
-  }
-  const std::size_t bufferSize = model.buffers[std::size_t(view.buffer)].data.size();
-  if (view.byteOffset > bufferSize || view.byteLength > bufferSize - view.byteOffset) {
-    fail(path, "bufferView " + std::to_string(acc.bufferView) + " (offset " + std::to_string(view.byteOffset) +
-         ", length " + std::to_string(view.byteLength) + ") lies outside its " + std::to_string(bufferSize) + "-byte buffer", fix);
-  }
-  const std::size_t elementSize = std::size_t(tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType))) *
-                                  std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(acc.type)));
-  ElementView out;
-  out.count = acc.count;
-  out.stride = view.byteStride != 0 ? view.byteStride : elementSize;
-  out.componentType = acc.componentType;
-  out.base = model.buffers[std::size_t(view.buffer)].data.data() + view.byteOffset + acc.byteOffset;
-  if (acc.count == 0) return out;
-  // offset + stride * (count - 1) + elementSize <= byteLength, written so nothing can overflow.
-  const bool fits = acc.byteOffset <= view.byteLength && elementSize <= view.byteLength - acc.byteOffset &&
-                    acc.count - 1 <= (view.byteLength - acc.byteOffset - elementSize) / out.stride;
-  if (!fits) {
-    fail(path, name + " (offset " + std::to_string(acc.byteOffset) + ", " + std::to_string(acc.count) +
-         " elements, stride " + std::to_string(out.stride) + ") reads past the end of its " +
-         std::to_string(view.byteLength) + "-byte bufferView " + std::to_string(acc.bufferView), fix);
-  }
-  return out;
-}
-
-std::vector<glm::vec3> readVec3(const ElementView& v) {
-  std::vector<glm::vec3> out(v.count);
-  for (std::size_t i = 0; i < v.count; ++i) std::memcpy(&out[i], v.base + i * v.stride, sizeof(glm::vec3));  // little-endian host
-  return out;
-}
-
-std::vector<std::uint32_t> readIndices(const ElementView& v) {
-  std::vector<std::uint32_t> out(v.count);
-  for (std::size_t i = 0; i < v.count; ++i) {
-    const unsigned char* p = v.base + i * v.stride;
-    if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-      out[i] = *p;
-    } else if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-      std::uint16_t s;
-      std::memcpy(&s, p, 2);
-      out[i] = s;
-    } else {
-      std::memcpy(&out[i], p, 4);
-    }
-  }
-  return out;
-}
-
-glm::mat4 localTransform(const tinygltf::Node& node) {
-  if (node.matrix.size() == 16) {
-    glm::dmat4 m;
-    std::memcpy(glm::value_ptr(m), node.matrix.data(), sizeof(m));  // both column-major
-    return glm::mat4(m);
-  }
-  glm::dmat4 t(1.0), r(1.0), s(1.0);
-  if (node.translation.size() == 3) t = glm::translate(glm::dmat4(1.0), glm::make_vec3(node.translation.data()));
-  if (node.rotation.size() == 4) {
-    const auto& q = node.rotation;  // glTF order x, y, z, w
-    r = glm::mat4_cast(glm::normalize(glm::dquat(q[3], q[0], q[1], q[2])));
-  }
-  if (node.scale.size() == 3) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
-  return glm::mat4(t * r * s);
-}
-
 glm::vec3 worldDirection(const glm::mat4& world, const glm::vec3& local) {
   const glm::vec3 d = glm::mat3(world) * local;
   const float len = glm::length(d);
@@ -258,7 +168,14 @@ struct Converter {
   const tinygltf::Model& model;
   const std::string& path;
   Scene& scene;
+  const gltf::NodeAnimations& animations;
   std::vector<char> onPath;  // cycle guard: a node that is its own ancestor would recurse forever
+  std::vector<int> chain;    // the nodes from the root to the one being visited
+  struct Animated {
+    std::size_t mesh;
+    std::vector<int> chain;
+  };
+  std::vector<Animated> animated;  // meshes under animated nodes
   std::size_t visits = 0;
   std::optional<glm::mat4> cameraWorld;
   float yfov = 0.0f;
@@ -289,7 +206,7 @@ struct Converter {
     }
     std::vector<std::uint32_t> idx;
     if (prim.indices >= 0) {
-      idx = readIndices(viewAccessor(model, prim.indices, "indices", path));
+      idx = readIndices(viewAccessor(model, prim.indices, "indices", path, gltf::Kind::Indices));
     } else {
       idx.resize(out.positions.size());
       for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
@@ -307,6 +224,9 @@ struct Converter {
       out.baseColor = rgb(model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
     }
     scene.meshes.push_back(std::move(out));
+    if (std::any_of(chain.begin(), chain.end(), [&](int n) { return animations.animates(n); })) {
+      animated.push_back({scene.meshes.size() - 1, chain});
+    }
   }
 
   void addLight(const tinygltf::Node& node, const glm::mat4& world) {
@@ -344,7 +264,8 @@ struct Converter {
     if (onPath[std::size_t(index)]) fail(path, "node " + std::to_string(index) + " is its own ancestor", "remove the cycle");
     if (++visits > 1000000) fail(path, "node hierarchy expands to over a million instances", "flatten the scene");
     const tinygltf::Node& node = model.nodes[std::size_t(index)];
-    const glm::mat4 world = parent * localTransform(node);
+    chain.push_back(index);
+    const glm::mat4 world = parent * glm::mat4(gltf::localTransform(node));
     if (node.mesh >= 0) {
       if (std::size_t(node.mesh) >= model.meshes.size()) {
         fail(path, "node " + std::to_string(index) + " refers to missing mesh " + std::to_string(node.mesh), "re-export it");
@@ -366,6 +287,7 @@ struct Converter {
     onPath[std::size_t(index)] = 1;
     for (int child : node.children) visit(child, world);
     onPath[std::size_t(index)] = 0;
+    chain.pop_back();
   }
 
   std::vector<int> roots() const {
@@ -389,6 +311,14 @@ struct Converter {
   void run() {
     onPath.assign(model.nodes.size(), 0);
     for (int root : roots()) visit(root, glm::mat4(1.0f));
+    // Rest positions are taken by cleanScene (after it cleaned the mesh), so they match the mesh.
+    for (const Animated& a : animated) {
+      const std::optional<std::vector<RigidKey>> keys =
+          gltf::rigidKeys(model, animations, a.chain, scene.meshes[a.mesh].name, scene.warnings);
+      if (!keys) continue;
+      scene.meshes[a.mesh].dynamic = true;
+      scene.animations.push_back({a.mesh, {}, {}, *keys});
+    }
     if (!cameraWorld) return;
     Bounds finite;  // aim distance only: the scene radius, ignoring NaN that cleanScene drops later
     for (const Mesh& m : scene.meshes) {
@@ -443,7 +373,8 @@ Scene loadGltf(const std::string& path) {
     if (end > start) scene.warnings.push_back("glTF: " + warn.substr(start, end - start));
     start = end + 1;
   }
-  Converter{model, path, scene}.run();
+  const gltf::NodeAnimations animations(model, path, scene.warnings);
+  Converter{model, path, scene, animations}.run();
   return scene;
 }
 

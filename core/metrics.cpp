@@ -111,6 +111,22 @@ std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<co
   return rgba;
 }
 
+double temporalChange(std::span<const float> previous, std::span<const float> current,
+                      std::span<const std::uint8_t> previousCovered, std::span<const std::uint8_t> currentCovered) {
+  if (current.size() != previous.size() || previousCovered.size() != previous.size() ||
+      currentCovered.size() != previous.size()) {
+    throw std::invalid_argument("temporalChange: frames differ in size");
+  }
+  double sum = 0.0;
+  std::uint64_t n = 0;
+  for (std::size_t i = 0; i < previous.size(); ++i) {
+    if (!previousCovered[i] || !currentCovered[i]) continue;
+    sum += std::abs(double(current[i]) - double(previous[i]));
+    ++n;
+  }
+  return n ? sum / double(n) : 0.0;
+}
+
 double missFraction(std::span<const float> approx, std::span<const float> reference, std::span<const std::uint8_t> covered,
                     std::span<const std::uint8_t> marked, float threshold) {
   if (approx.size() != reference.size() || covered.size() != reference.size() || marked.size() != reference.size()) {

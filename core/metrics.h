@@ -60,6 +60,12 @@ double missFraction(std::span<const float> approx, std::span<const float> refere
 double penumbraMissFraction(std::span<const float> reference, std::span<const std::uint8_t> covered,
                             std::span<const std::uint8_t> marked);
 
+// Temporal stability: the mean |current - previous| of the visibility over the pixels covered in
+// both frames (0 when none is). Under a slowly moving light, a method's value above the
+// reference's is flicker (shadow-map texels swimming, noise that is not shared between frames).
+double temporalChange(std::span<const float> previous, std::span<const float> current,
+                      std::span<const std::uint8_t> previousCovered, std::span<const std::uint8_t> currentCovered);
+
 // RGBA8 heatmap of |test - ref|: black (0) -> red -> yellow -> white (>= fullScale);
 // uncovered pixels dark blue-grey.
 std::vector<std::uint8_t> errorHeatmap(std::span<const float> test, std::span<const float> reference,

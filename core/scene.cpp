@@ -1,13 +1,32 @@
 #include "core/scene.h"
 
 #include <cmath>
+#include <cstdint>
 
 namespace penumbra {
 
 Bounds Scene::bounds() const {
   Bounds b;
-  for (const Mesh& mesh : meshes) {
-    for (const glm::vec3& p : mesh.positions) b.extend(p);
+  std::vector<bool> animated(meshes.size(), false);
+  for (const MeshAnimation& animation : animations) {
+    if (animation.mesh < animated.size()) animated[animation.mesh] = true;
+  }
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    if (animated[m]) continue;  // bounded by its sweep below, the same at every time
+    for (const glm::vec3& p : meshes[m].positions) b.extend(p);
+  }
+  // An animated mesh lies within radius r of its rest box centre c turned and moved by the pose.
+  // The translation is linear between keys and the turned centre stays within |c| of it, so boxes
+  // around the keys' translations, |c| + r wide, hold every pose in between.
+  for (const MeshAnimation& animation : animations) {
+    Bounds rest;
+    for (const glm::vec3& p : animation.restPositions) rest.extend(p);
+    if (rest.empty()) continue;
+    const float reach = glm::length(rest.center()) + rest.radius();
+    for (const RigidKey& key : animation.keys) {
+      b.extend(key.translation - glm::vec3(reach));
+      b.extend(key.translation + glm::vec3(reach));
+    }
   }
   return b;
 }
@@ -104,7 +123,20 @@ void cleanScene(Scene& scene, const std::string& source) {
 
   Dropped dropped;
   for (Mesh& mesh : scene.meshes) cleanMesh(mesh, areaEpsilon, dropped);
+  // Meshes left without triangles go; animations follow their meshes' new indices.
+  std::vector<std::size_t> newIndex(scene.meshes.size());
+  std::size_t kept = 0;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) newIndex[m] = scene.meshes[m].indices.empty() ? SIZE_MAX : kept++;
+  std::erase_if(scene.animations, [&](const MeshAnimation& a) { return a.mesh >= newIndex.size() || newIndex[a.mesh] == SIZE_MAX; });
+  for (MeshAnimation& a : scene.animations) a.mesh = newIndex[a.mesh];
   std::erase_if(scene.meshes, [](const Mesh& m) { return m.indices.empty(); });
+  // Loaders leave animated meshes at their rest pose with the rest left to take here, after the
+  // normals were filled in.
+  for (MeshAnimation& a : scene.animations) {
+    if (!a.restPositions.empty()) continue;
+    a.restPositions = scene.meshes[a.mesh].positions;
+    a.restNormals = scene.meshes[a.mesh].normals;
+  }
 
   auto report = [&](std::size_t n, const char* what) {
     if (n > 0) scene.warnings.push_back(std::to_string(n) + " triangles dropped: " + what);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace penumbra {
 
@@ -23,7 +24,7 @@ struct Mesh {
   std::vector<glm::vec3> normals;    // world space, unit, one per position
   std::vector<std::uint32_t> indices;  // three per triangle
   glm::vec3 baseColor{0.8f};
-  bool dynamic = false;  // moving geometry (later issues); static otherwise
+  bool dynamic = false;  // moves during the run (posed by an animation, core/animation.h); static otherwise
   std::size_t triangleCount() const { return indices.size() / 3; }
 };
 
@@ -54,13 +55,30 @@ struct Bounds {
   float radius() const { return 0.5f * glm::length(hi - lo); }  // bounding sphere of the box
 };
 
+// Rigid keyframe animation of one dynamic mesh (core/animation.h poses it). Positions and normals
+// at time t are the rest ones under translate(translation) * rotate(rotation), both interpolated
+// between the keys around t (linear, slerp); the keys repeat with the period of the last key time.
+struct RigidKey {
+  float time = 0.0f;  // seconds, increasing from 0
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+};
+struct MeshAnimation {
+  std::size_t mesh = 0;  // index into Scene::meshes (a mesh with dynamic = true)
+  std::vector<glm::vec3> restPositions, restNormals;
+  std::vector<RigidKey> keys;
+};
+
 struct Scene {
   std::string name;
   std::vector<Mesh> meshes;
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
   std::vector<Light> lights;     // the first one is used
   std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats
+  std::vector<MeshAnimation> animations;  // dynamic meshes and how they move
 
+  // Every pose the scene takes: static meshes, and each animated mesh swept over its keys (so
+  // shadow-map fitting and ray offsets stay fixed while objects move).
   Bounds bounds() const;
   std::size_t triangleCount() const;
 };

@@ -238,6 +238,16 @@ Light defaultLight(const Bounds& bounds) {
   return light;
 }
 
+Light orbitLight(const Light& light, const Bounds& bounds, float degrees) {
+  const glm::vec3 centre = bounds.center();
+  const float a = glm::radians(degrees), c = std::cos(a), s = std::sin(a);
+  const auto turn = [&](const glm::vec3& v) { return glm::vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); };
+  Light out = light;
+  out.position = centre + turn(light.position - centre);
+  out.direction = glm::normalize(turn(light.direction));
+  return out;
+}
+
 void applyLightSize(Light& light, float fractionOfRadius, const Bounds& bounds) {
   const std::string problem = lightSizeProblem(light, fractionOfRadius);
   if (!problem.empty()) throw InputError("--light-size: " + problem);
@@ -267,9 +277,9 @@ View readViewFile(const std::string& path) {
   }
   if (!json.is_object()) throw InputError(file + " must hold a JSON object with camera, light and resolution");
   for (const auto& [key, value] : json.items()) {
-    if (key != "camera" && key != "light" && key != "light_size" && key != "resolution") {
+    if (key != "camera" && key != "light" && key != "light_size" && key != "resolution" && key != "time") {
       throw InputError(file + " has the unknown field \"" + key +
-                       "\"; the fields are camera, light, light_size and resolution");
+                       "\"; the fields are camera, light, light_size, resolution and time");
     }
   }
   const auto field = [&](const char* name) -> const nlohmann::json& {
@@ -311,6 +321,13 @@ View readViewFile(const std::string& path) {
   }
   view.width = resolution[0].get<int>();
   view.height = resolution[1].get<int>();
+  if (json.contains("time")) {
+    const nlohmann::json& time = json.at("time");
+    if (!time.is_number() || !std::isfinite(time.get<double>()) || time.get<double>() < 0.0) {
+      throw fieldError("time", "must be a number of seconds >= 0, got " + time.dump());
+    }
+    view.time = time.get<double>();
+  }
   return view;
 }
 
@@ -331,6 +348,7 @@ void writeViewFile(const std::string& path, const View& view) {
   std::from_chars(sizeText.data(), sizeText.data() + sizeText.size(), size);
   json["light_size"] = size;
   json["resolution"] = {view.width, view.height};
+  if (view.time != 0.0) json["time"] = view.time;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << json.dump(2) << "\n";
   out.close();

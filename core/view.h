@@ -24,6 +24,11 @@ Camera defaultCamera(const Bounds& bounds);
 // A disk light (size 0 = point-like) above and to the side of the bounds, facing their centre.
 Light defaultLight(const Bounds& bounds);
 
+// The light turned by `degrees` about the vertical (+y) axis through the bounds' centre: position
+// and direction alike, so a light keeps aiming at the same part of the scene as it circles. The
+// slowly moving light of the demo's --light-path circle and of bench's temporal-stability frames.
+Light orbitLight(const Light& light, const Bounds& bounds, float degrees);
+
 // Sets light.size from a fraction of the scene radius. Refuses (InputError) a size > 0 for light
 // types that have no extent (directional, spot, point) and negative or non-finite fractions.
 void applyLightSize(Light& light, float fractionOfRadius, const Bounds& bounds);
@@ -35,6 +40,7 @@ struct View {
   float lightSizeFraction = 0.0f;  // --light-size
   int width = 256;
   int height = 256;
+  double time = 0.0;  // animated scenes: seconds into the animation (optional field "time")
 };
 View readViewFile(const std::string& path);  // InputError naming the file and the bad field
 void writeViewFile(const std::string& path, const View& view);

@@ -54,6 +54,10 @@ nlohmann::json FrameStats::toJson() const {
           {"samples_per_pixel", samplesPerPixel},
           {"memory_bytes", memoryBytes},
           {"setup_ms", setupMs},
+          {"refit", refit ? nlohmann::json{{"ms", refit->ms}, {"sah", refit->sah}, {"built_sah", refit->builtSah},
+                                           {"sah_growth", refit->builtSah > 0.0 ? refit->sah / refit->builtSah : 1.0},
+                                           {"rebuilt", refit->rebuilt}, {"rebuilds", refit->rebuilds}}
+                          : nlohmann::json(nullptr)},
           {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
           {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
           {"trace_bytes_simulated", orNull(traceBytesSimulated)},

@@ -35,6 +35,16 @@ struct FrameStats {
   std::vector<std::pair<std::string, double>> passMs;  // per pass: GPU timestamps, CPU wall time
   std::map<std::string, std::uint64_t> memoryBytes;    // per structure
   std::map<std::string, double> setupMs;               // one-time work (e.g. acceleration build)
+  // Dynamic scenes: the tracer's dynamic BVH after the last Renderer::sceneMoved() (refit, or a
+  // rebuild when refitting grew its SAH cost past the threshold).
+  struct Refit {
+    double ms = 0.0;          // refit (or rebuild) and upload, wall clock
+    double sah = 0.0;         // SAH cost of the dynamic BVH now
+    double builtSah = 0.0;    // ... when it was last built
+    bool rebuilt = false;     // this update rebuilt it
+    std::uint64_t rebuilds = 0;  // rebuilds so far
+  };
+  std::optional<Refit> refit;
   std::optional<ErrorMetrics> error;                   // vs the reference, when compared
   std::optional<ImageErrorMetrics> imageError;         // shaded image vs the reference's, when compared
   // --simulate-bandwidth (raytrace/bandwidth_model.h): DRAM bytes and 128-byte lines of the trace

@@ -70,6 +70,15 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
   return *bvh_;
 }
 
+void Renderer::sceneMoved() {
+  const auto start = std::chrono::steady_clock::now();
+  geometry_.update(scene_);
+  embree_.reset();
+  FrameStats::Refit refit;
+  refit.ms = msSince(start);
+  refit_ = refit;
+}
+
 TraceJob Renderer::traceJob() const {
   return {compact_.points(), compact_.count(), frameBuffer_, visibility_};
 }
@@ -203,6 +212,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
     frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
   }
 
+  stats.refit = refit_;
   stats.memoryBytes["scene_geometry"] = geometry_.bytes();
   stats.memoryBytes["gbuffer"] = gbuffer_.bytes();
   if (stats.pipPixels) stats.memoryBytes["ray_list"] = compact_.bytes();

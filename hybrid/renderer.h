@@ -61,6 +61,10 @@ class Renderer {
   Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
   ~Renderer();  // out of line: Method is incomplete here
   Frame render(const std::string& method, const Camera& camera, const Light& light);
+  // The scene's dynamic meshes were posed anew (core/animation.h, between frames): re-uploads their
+  // vertices, refits the built tracers' dynamic BVHs (rebuilding when the SAH grew too much) and
+  // drops the Embree reference (rebuilt on next use). Frames report the refit in stats.refit.
+  void sceneMoved();
 
   // For methods, valid during render():
   const gpu::Context& context() const { return context_; }
@@ -122,6 +126,7 @@ class Renderer {
   shared::FrameData frameData_{};
   ViewMatrices view_;
   glm::vec3 cameraPosition_{0.0f};
+  std::optional<FrameStats::Refit> refit_;  // the last sceneMoved()'s, for the frames after it
 };
 
 }  // namespace penumbra

@@ -31,6 +31,16 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene)
   indexCount_ = std::uint32_t(scene.triangleCount() * 3);
 }
 
+void SceneGeometry::update(const Scene& scene) {
+  auto* vertex = static_cast<RasterVertex*>(vertices_.data());
+  for (const Mesh& mesh : scene.meshes) {
+    if (mesh.dynamic) {
+      for (std::size_t i = 0; i < mesh.positions.size(); ++i) vertex[i] = {mesh.positions[i], mesh.normals[i], mesh.baseColor};
+    }
+    vertex += mesh.positions.size();
+  }
+}
+
 void SceneGeometry::bind(const vk::raii::CommandBuffer& cmd) const {
   cmd.bindVertexBuffers(0, {vertices_.handle()}, {vk::DeviceSize(0)});
   cmd.bindIndexBuffer(indices_.handle(), 0, vk::IndexType::eUint32);

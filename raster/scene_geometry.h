@@ -20,6 +20,9 @@ static_assert(sizeof(RasterVertex) == 36);
 class SceneGeometry {
  public:
   SceneGeometry(const gpu::Context& context, const Scene& scene);
+  // Rewrites the vertices of the scene's dynamic meshes (same scene, posed anew; host-visible
+  // memory, so call it between frames, when no submission reads the buffer).
+  void update(const Scene& scene);
   void bind(const vk::raii::CommandBuffer& cmd) const;  // vertex + index buffers
   void draw(const vk::raii::CommandBuffer& cmd) const;  // the whole scene
   std::uint32_t indexCount() const { return indexCount_; }

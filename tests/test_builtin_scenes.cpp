@@ -116,8 +116,8 @@ void expectWellFormed(const Scene& scene) {
 
 }  // namespace
 
-TEST(BuiltinScenes, ListsTheFourScenes) {
-  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "wires", "square", "room"}));
+TEST(BuiltinScenes, ListsTheFiveScenes) {
+  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "room"}));
 }
 
 TEST(BuiltinScenes, EachIsWellFormedAndSurvivesCleaning) {

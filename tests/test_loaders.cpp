@@ -9,8 +9,10 @@
 #include <functional>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/animation.h"
 #include "core/scene_loader.h"
 
 namespace fs = std::filesystem;
@@ -158,6 +160,79 @@ TEST(GltfLoader, ExternalBinWithNodeTransform) {
   EXPECT_TRUE(near(s.meshes[0].baseColor, {0.25f, 0.5f, 0.75f}));
   EXPECT_TRUE(near(s.meshes[0].normals[0], {0, 0, 1}));  // computed by cleanScene
   EXPECT_FALSE(s.camera.has_value());
+}
+
+// Appends float data to bin as a new accessor (4-byte aligned); returns its index.
+int addFloatAccessor(json& doc, Bytes& bin, const std::vector<float>& values, const char* type, std::size_t count) {
+  while (bin.size() % 4) bin.push_back(0);
+  const std::size_t offset = bin.size();
+  bin.resize(offset + values.size() * 4);
+  std::memcpy(bin.data() + offset, values.data(), values.size() * 4);
+  doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * 4}});
+  doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", count}, {"type", type}});
+  doc["buffers"][0]["byteLength"] = bin.size();
+  return int(doc["accessors"].size()) - 1;
+}
+
+// The triangle under a parent node that turns about y (rotation channel) while the child slides
+// along x (translation channel, keys at other times): one rigid animation with the union of keys.
+json animatedDoc(Bytes& bin, const char* childPath = "translation") {
+  json doc = meshDoc(kTriangle, {0, 1, 2}, bin);
+  doc["nodes"] = {{{"name", "parent"}, {"translation", {0.0, 1.0, 0.0}}, {"children", {1}}},
+                  {{"name", "child"}, {"mesh", 0}, {"translation", {1.0, 0.0, 0.0}}}};
+  doc["scenes"] = {{{"nodes", {0}}}};
+  const float s = std::sqrt(0.5f);
+  const int rotT = addFloatAccessor(doc, bin, {0.0f, 2.0f}, "SCALAR", 2);
+  const int rotV = addFloatAccessor(doc, bin, {0, 0, 0, 1, 0, s, 0, s}, "VEC4", 2);  // 0 -> 90 degrees about y
+  const int moveT = addFloatAccessor(doc, bin, {0.0f, 1.0f, 3.0f}, "SCALAR", 3);
+  const bool scale = std::string(childPath) == "scale";
+  const int moveV = addFloatAccessor(doc, bin, scale ? std::vector<float>{1, 1, 1, 2, 2, 2, 1, 1, 1}
+                                                     : std::vector<float>{1, 0, 0, 3, 0, 0, 3, 0, 0}, "VEC3", 3);
+  doc["animations"] = {{{"name", "fly"},
+                        {"samplers", {{{"input", rotT}, {"output", rotV}, {"interpolation", "LINEAR"}},
+                                      {{"input", moveT}, {"output", moveV}, {"interpolation", "LINEAR"}}}},
+                        {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "rotation"}}}},
+                                      {{"sampler", 1}, {"target", {{"node", 1}, {"path", childPath}}}}}}}};
+  return doc;
+}
+
+TEST(GltfLoader, NodeAnimationBecomesARigidMeshAnimation) {
+  TempDir dir;
+  Bytes bin;
+  Scene s = penumbra::loadScene(writeGltf(dir, animatedDoc(bin), bin));
+  ASSERT_EQ(s.animations.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].dynamic);
+  const penumbra::MeshAnimation& a = s.animations[0];
+  ASSERT_EQ(a.keys.size(), 4u);  // union of {0, 2} and {0, 1, 3}
+  EXPECT_EQ(a.keys[1].time, 1.0f);
+  EXPECT_EQ(a.restPositions.size(), 3u);
+  EXPECT_TRUE(near(a.restPositions[0], {1, 1, 0}));  // the rest pose: the nodes' own TRS
+  // At t = 2 the parent has turned 90 degrees about y and the child sits at x = 3 (its key at 1 and 3).
+  penumbra::poseScene(s, 2.0);
+  const glm::mat4 parent = glm::translate(glm::mat4(1.0f), {0, 1, 0}) * glm::rotate(glm::mat4(1.0f), glm::half_pi<float>(), {0, 1, 0});
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3 want(parent * glm::vec4(kTriangle[std::size_t(i)] + glm::vec3(3, 0, 0), 1.0f));
+    EXPECT_TRUE(near(s.meshes[0].positions[std::size_t(i)], want, 1e-4f)) << i;
+  }
+  EXPECT_TRUE(near(s.meshes[0].normals[0], {1, 0, 0}, 1e-4f));  // +z turned 90 degrees about y
+}
+
+TEST(GltfLoader, NonRigidOrBrokenAnimationsAreRefusedOrKeptStatic) {
+  TempDir dir;
+  Bytes bin;
+  const Scene scaled = penumbra::loadScene(writeGltf(dir, animatedDoc(bin, "scale"), bin, "scaled"));
+  EXPECT_TRUE(scaled.animations.empty());
+  EXPECT_FALSE(scaled.meshes[0].dynamic);
+  EXPECT_TRUE(anyWarningContains(scaled, "scales or shears"));
+  Bytes bin2;
+  json doc = animatedDoc(bin2);
+  doc["accessors"][std::size_t(doc["animations"][0]["samplers"][1]["input"])]["count"] = 2;  // 2 times, 3 values
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, doc, bin2, "short")); }, {"short.gltf", "animation"});
+  Bytes bin3;
+  json matrix = animatedDoc(bin3);
+  matrix["nodes"][0].erase("translation");
+  matrix["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1};
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, matrix, bin3, "matrix")); }, {"matrix.gltf", "matrix"});
 }
 
 TEST(GltfLoader, Base64DataUriAndDefaultColour) {

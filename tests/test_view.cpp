@@ -327,9 +327,48 @@ TEST_F(ViewFile, RoundTrips) {
   EXPECT_EQ(back.height, 360);
 }
 
+TEST_F(ViewFile, AnimationTimeRoundTripsAndIsChecked) {
+  View view;
+  view.camera = parseCamera("9,19,23:0,0,0.5:40");
+  view.light = parseLight("point:1,8,2");
+  view.time = 2.125;
+  const std::string path = (dir_ / "view.json").string();
+  writeViewFile(path, view);
+  EXPECT_EQ(readViewFile(path).time, 2.125);
+  for (const char* bad : {"-1", "\"soon\"", "null"}) {
+    const std::string text = std::string(R"({"camera": "0,2,8:0,0,0", "light": "dir:0,-1,0", "resolution": [8, 8], "time": )") + bad + "}";
+    try {
+      readViewFile(write("bad.json", text));
+      FAIL() << "time " << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("time"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(ViewOrbitLight, TurnsPositionAndDirectionAboutTheCentreAxis) {
+  Bounds bounds;
+  bounds.extend({-2.0f, 0.0f, -2.0f});
+  bounds.extend({4.0f, 3.0f, 2.0f});
+  const Light light = parseLight("spot:5,9,1:1,0,0:40");
+  const glm::vec3 centre = bounds.center();
+  const Light quarter = orbitLight(light, bounds, 90.0f);
+  EXPECT_NEAR(glm::distance(quarter.position, centre), glm::distance(light.position, centre), 1e-4f);
+  EXPECT_FLOAT_EQ(quarter.position.y, light.position.y);
+  EXPECT_GT(glm::distance(quarter.position, light.position), 1.0f);
+  // Still aimed at the same point, turned with it.
+  const glm::vec3 aim = glm::vec3(1.0f, 0.0f, 0.0f);
+  const glm::vec3 turnedAim = orbitLight(Light{.position = aim}, bounds, 90.0f).position;
+  EXPECT_LT(glm::length(glm::normalize(turnedAim - quarter.position) - quarter.direction), 1e-4f);
+  const Light full = orbitLight(light, bounds, 360.0f);
+  expectVecNear(full.position, light.position, 1e-4f);
+  expectVecNear(full.direction, light.direction, 1e-5f);
+}
+
 TEST_F(ViewFile, LightSizeIsOptional) {
   const View v = readViewFile(write("v.json", R"({"camera": "0,2,8:0,0,0", "light": "dir:0,-1,0", "resolution": [8, 16]})"));
   EXPECT_EQ(v.lightSizeFraction, 0.0f);
+  EXPECT_EQ(v.time, 0.0);
   EXPECT_EQ(v.light.type, LightType::Directional);
   EXPECT_EQ(v.width, 8);
   EXPECT_EQ(v.height, 16);

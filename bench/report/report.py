@@ -226,7 +226,7 @@ def method_images(prefix, method, label):
 def metrics_rows(rows, with_params=False):
     header = ["method"] + (["parameters"] if with_params else []) + [
         "time ms", "min", "max", "speed-up vs ref", "PIP %", "rays", "wrong %", "RMSE", "MAE", "max err",
-        "FLIP (image)", "PIP miss", "trace bytes (sim.)"]
+        "FLIP (image)", "PIP miss", "trace bytes (sim.)", "temporal change", "vs ref's"]
     out = []
     for r in rows:
         out.append([r["method"]] + ([r.get("params_label", "")] if with_params else []) + [
@@ -236,8 +236,15 @@ def metrics_rows(rows, with_params=False):
             fmt(error_of(r, "wrong_pixel_fraction"), 4, 100.0), fmt(error_of(r, "rmse"), 4),
             fmt(error_of(r, "mae"), 4), fmt(error_of(r, "max"), 3), fmt(r.get("flip_mean"), 4),
             fmt(r.get("pip_miss_fraction"), 5),
-            fmt(r.get("trace_bytes_simulated"))])
+            fmt(r.get("trace_bytes_simulated")),
+            fmt(r.get("temporal_change"), 5), temporal_ratio(r)])
     return header, out
+
+
+def temporal_ratio(row):
+    """A method's frame-to-frame visibility change under the circling light over the reference's (1 = no extra flicker)."""
+    mine, ref = row.get("temporal_change"), row.get("ref_temporal_change")
+    return "n/a" if mine is None or not ref else fmt(float(mine) / float(ref), 2, suffix="x")
 
 
 def chart_points(rows, error_key):
