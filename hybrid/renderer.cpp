@@ -75,6 +75,17 @@ void Renderer::sceneMoved() {
   geometry_.update(scene_);
   embree_.reset();
   FrameStats::Refit refit;
+  // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
+  // else the line space's (both hold the same tree over the same triangles).
+  std::optional<BvhRefitReport> traced;
+  if (lineSpace_) traced = lineSpace_->update(scene_);
+  if (bvh_) traced = bvh_->update(scene_);
+  if (traced) {
+    refit.sah = traced->sah;
+    refit.builtSah = traced->builtSah;
+    refit.rebuilt = traced->rebuilt;
+    refit.rebuilds = traced->rebuilds;
+  }
   refit.ms = msSince(start);
   refit_ = refit;
 }

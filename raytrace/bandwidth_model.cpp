@@ -260,6 +260,10 @@ BandwidthReport simulateTraceBandwidth(std::span<const shared::BvhNode> nodes,
 
 BandwidthReport simulateTraceBandwidth(const BvhTracer& tracer, const TraceJob& job, const shared::GpuLight& light,
                                        const BandwidthSettings& settings) {
+  if (tracer.dynamicRoot() != BVH_NO_TREE) {
+    throw InputError("--simulate-bandwidth replays the static scene's BVH only, but this scene has moving meshes "
+                     "(a second, dynamic tree); run it without --simulate-bandwidth");
+  }
   const std::uint32_t count = job.count.download<shared::TraceCount>(1).front().count;
   const auto points = job.points.download<shared::ShadingPoint>(count);
   const auto nodes = tracer.nodeBuffer().download<shared::BvhNode>(tracer.nodeBuffer().size() / sizeof(shared::BvhNode));

@@ -87,7 +87,8 @@ BandwidthReport simulateTraceBandwidth(std::span<const shared::BvhNode> nodes,
                                        const BandwidthSettings& settings = {}, std::vector<float>* visibility = nullptr);
 
 // The same for a recorded and finished BvhTracer job: downloads the points and count (host visible)
-// and the tracer's BVH. `light` must be the light of the traced frame.
+// and the tracer's BVH. `light` must be the light of the traced frame. Throws InputError for a
+// tracer with a dynamic tree (scenes with moving meshes): the replay follows the static tree only.
 BandwidthReport simulateTraceBandwidth(const BvhTracer& tracer, const TraceJob& job, const shared::GpuLight& light,
                                        const BandwidthSettings& settings = {});
 

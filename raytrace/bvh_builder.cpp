@@ -145,6 +145,37 @@ class Flattener {
   std::uint64_t leaves_ = 0;
 };
 
+// The empty selection's tree (see Bvh in the header): a degenerate triangle fails the edge or
+// the plane test for every ray, so the root's one leaf never reports a hit.
+Bvh emptyBvh() {
+  Bvh bvh;
+  const glm::vec3 p(0.0f);
+  bvh.triangles.push_back({p, BVH_NO_HIT, p, 0u, p, 0u});
+  bvh.nodes.emplace_back();
+  bvh.nodes[0].child[0] = {p, 0u, p, 1u};
+  bvh.nodes[0].child[1] = {p, 0u, p, 0u};  // empty slot
+  BvhStats& s = bvh.stats;
+  s.nodes = 1;
+  s.bytes = sizeof(shared::BvhNode) + sizeof(shared::BvhTriangle);
+  s.sahCost = 1.0;
+  s.maxDepth = 1;
+  return bvh;
+}
+
+}  // namespace
+
+std::uint64_t triangleCount(const Scene& scene, MeshSet set) {
+  std::uint64_t count = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    if (inMeshSet(mesh, set)) count += mesh.triangleCount();
+  }
+  return count;
+}
+
+// About 8 ulps of the largest coordinate: above the rounding of the slab and edge tests for
+// origins inside the scene, far below any feature size (1e-6 of the scene's extent).
+float bvhBoxPadding(float extent) { return std::max(extent * 1.0e-6f, std::numeric_limits<float>::min()); }
+
 // SAH cost of the flattened tree with Ct = Ci = 1: every node is visited with the probability
 // area(node box) / area(root box), every leaf's triangles are tested with its own area ratio.
 double sahCost(const Bvh& bvh) {
@@ -172,13 +203,15 @@ double sahCost(const Bvh& bvh) {
   return std::max(cost, 1.0);  // the root is always visited; flat scenes can round below
 }
 
-}  // namespace
-
 struct BvhBuilder::Impl {
   DevicePtr device;
 };
 
 BvhBuilder::BvhBuilder(const BvhBuildSettings& settings) : settings_(settings), impl_(std::make_unique<Impl>()) {
+  if (!(settings.rebuildGrowth > 1.0f)) {
+    throw std::invalid_argument("BvhBuilder: rebuildGrowth " + std::to_string(settings.rebuildGrowth) +
+                                " must exceed 1 (a refit tree is rebuilt when its SAH cost grows past it)");
+  }
   if (settings.maxLeafSize < 1 || settings.maxLeafSize > BvhBuildSettings::kMaxLeafSize) {
     throw std::invalid_argument("BvhBuilder: maxLeafSize " + std::to_string(settings.maxLeafSize) + " is outside 1.." +
                                 std::to_string(BvhBuildSettings::kMaxLeafSize));
@@ -192,13 +225,19 @@ BvhBuilder::BvhBuilder(const BvhBuildSettings& settings) : settings_(settings), 
 
 BvhBuilder::~BvhBuilder() = default;
 
-Bvh BvhBuilder::build(const Scene& scene) const {
+Bvh BvhBuilder::build(const Scene& scene, MeshSet set) const {
   const auto start = std::chrono::steady_clock::now();
-  const std::size_t total = scene.triangleCount();
-  if (total == 0) throw InputError("BVH: scene '" + scene.name + "' has no triangles to build a BVH over");
-  if (total >= std::size_t(BVH_NO_HIT)) {
-    throw InputError("BVH: scene '" + scene.name + "' has " + std::to_string(total) +
+  const std::size_t sceneTotal = scene.triangleCount();
+  if (sceneTotal == 0) throw InputError("BVH: scene '" + scene.name + "' has no triangles to build a BVH over");
+  if (sceneTotal >= std::size_t(BVH_NO_HIT)) {
+    throw InputError("BVH: scene '" + scene.name + "' has " + std::to_string(sceneTotal) +
                      " triangles, more than 32-bit ids allow");
+  }
+  const std::size_t total = triangleCount(scene, set);
+  if (total == 0) {
+    Bvh bvh = emptyBvh();
+    bvh.stats.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return bvh;
   }
 
   // Triangles in scene order (their id) and their boxes, the builder's input.
@@ -207,7 +246,11 @@ Bvh BvhBuilder::build(const Scene& scene) const {
   source.reserve(total);
   prims.reserve(total);
   float extent = 0.0f;  // largest coordinate magnitude, the scale of rounding errors
+  std::uint32_t firstId = 0;  // scene index of the mesh's first triangle
   for (const Mesh& mesh : scene.meshes) {
+    const std::uint32_t meshFirst = firstId;
+    firstId += std::uint32_t(mesh.triangleCount());
+    if (!inMeshSet(mesh, set)) continue;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       glm::vec3 v[3];
       for (int k = 0; k < 3; ++k) {
@@ -223,11 +266,12 @@ Bvh BvhBuilder::build(const Scene& scene) const {
         }
         extent = std::max({extent, std::abs(v[k].x), std::abs(v[k].y), std::abs(v[k].z)});
       }
-      const auto id = std::uint32_t(source.size());
-      source.push_back({v[0], id, v[1], 0u, v[2], 0u});
+      // The builder sees positions in `source` (primID); the triangle keeps its scene-wide id.
+      const auto primId = std::uint32_t(source.size());
+      source.push_back({v[0], meshFirst + std::uint32_t(t), v[1], 0u, v[2], 0u});
       const glm::vec3 lo = glm::min(v[0], glm::min(v[1], v[2]));
       const glm::vec3 hi = glm::max(v[0], glm::max(v[1], v[2]));
-      prims.push_back({lo.x, lo.y, lo.z, 0u, hi.x, hi.y, hi.z, id});
+      prims.push_back({lo.x, lo.y, lo.z, 0u, hi.x, hi.y, hi.z, primId});
     }
   }
 
@@ -266,14 +310,12 @@ Bvh BvhBuilder::build(const Scene& scene) const {
   Bvh bvh;
   bvh.nodes.reserve(std::max<std::uint64_t>(context.innerNodes, 1));
   bvh.triangles.reserve(total);
-  // About 8 ulps of the largest coordinate: above the rounding of the slab and edge tests for
-  // origins inside the scene, far below any feature size (1e-6 of the scene's extent).
-  const float pad = std::max(extent * 1.0e-6f, std::numeric_limits<float>::min());
+  const float pad = bvhBoxPadding(extent);
   Flattener flattener(source, pad, bvh);
   flattener.flattenRoot(root);
   if (bvh.triangles.size() != total) {
     throw std::runtime_error("BvhBuilder: the leaves hold " + std::to_string(bvh.triangles.size()) +
-                             " triangles, the scene " + std::to_string(total));
+                             " triangles, the selected meshes " + std::to_string(total));
   }
   if (flattener.maxDepth() > BVH_STACK_SIZE) {
     throw std::runtime_error("BvhBuilder: depth " + std::to_string(flattener.maxDepth()) + " exceeds BVH_STACK_SIZE " +

@@ -17,13 +17,25 @@ static_assert(sizeof(shared::BvhTriangle) == 48, "BvhTriangle must match std430"
 static_assert(sizeof(shared::RayQuery) == 32, "RayQuery must match std430");
 static_assert(sizeof(shared::RayHit) == 16, "RayHit must match std430");
 static_assert(sizeof(shared::BvhRaysPush) == 16, "BvhRaysPush must match std430");
+static_assert(sizeof(shared::BvhTracePush) == 16, "BvhTracePush must match std430");
 
 struct BvhBuildSettings {
   std::uint32_t maxLeafSize = 4;  // triangles per leaf, 1..kMaxLeafSize
   float traversalCost = 1.0f;     // SAH weights of Embree's builder
   float intersectionCost = 1.0f;
+  // Dynamic trees (raytrace/bvh_refit.h): an update rebuilds instead of refitting once the refit
+  // tree's SAH cost exceeds this multiple of the cost it had when last built (> 1).
+  float rebuildGrowth = 1.5f;
   static constexpr std::uint32_t kMaxLeafSize = 8;
 };
+
+// Which meshes a BVH covers: all, the static ones (Mesh::dynamic false) or the moving ones.
+enum class MeshSet { All, Static, Dynamic };
+inline bool inMeshSet(const Mesh& mesh, MeshSet set) {
+  return set == MeshSet::All || mesh.dynamic == (set == MeshSet::Dynamic);
+}
+// Triangles of the scene's meshes in `set`.
+std::uint64_t triangleCount(const Scene& scene, MeshSet set);
 
 struct BvhStats {
   double buildMs = 0.0;     // Embree build + flattening, wall clock
@@ -35,11 +47,22 @@ struct BvhStats {
   std::uint32_t maxDepth = 0;  // nodes on the longest root-to-leaf path (root = 1)
 };
 
+// An empty selection (no triangles in the MeshSet) is one root whose only leaf holds one
+// degenerate triangle (all three vertices one point, id BVH_NO_HIT) that no ray can hit: the
+// traversal then needs no special case, whatever the ray's extent. Its stats count 0 triangles.
 struct Bvh {
   std::vector<shared::BvhNode> nodes;  // nodes[0] is the root
   std::vector<shared::BvhTriangle> triangles;
   BvhStats stats;
+  bool empty() const { return stats.triangles == 0; }
 };
+
+// The builder's conservative padding of every child box for triangles whose largest coordinate
+// magnitude is `extent`; refitting pads with the same function so its boxes equal a build's.
+float bvhBoxPadding(float extent);
+// SAH cost of a flattened tree as BvhStats::sahCost reports it (Ct = Ci = 1, areas relative to
+// the root's box).
+double sahCost(const Bvh& bvh);
 
 class BvhBuilder {
  public:
@@ -48,9 +71,11 @@ class BvhBuilder {
   BvhBuilder(const BvhBuilder&) = delete;
   BvhBuilder& operator=(const BvhBuilder&) = delete;
 
-  // Throws InputError for a scene without triangles or with bad indices or non-finite vertices,
-  // std::runtime_error when Embree fails.
-  Bvh build(const Scene& scene) const;
+  // Builds over the meshes in `set`; BvhTriangle.id stays the triangle's index in the whole scene.
+  // Throws InputError for a scene without triangles (an empty selection of a non-empty scene gives
+  // the empty Bvh above) or with bad indices or non-finite vertices, std::runtime_error when
+  // Embree fails.
+  Bvh build(const Scene& scene, MeshSet set = MeshSet::All) const;
 
   // Bytes of the triangle buffer of a scene with `triangles` triangles, known before building
   // (each is stored once); the node buffer is smaller for any leaf size above 1.

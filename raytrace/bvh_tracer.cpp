@@ -40,11 +40,12 @@ std::uint64_t storageLimit(const gpu::Context& context) {
 }
 
 // Checks what can be known before building (the device, and the triangle buffer, the larger of
-// the two buffers), builds, then checks the node buffer.
+// the two buffers), builds the static tree, then checks the node buffer (both trees).
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
   context.requireSubgroupArithmetic("BvhTracer");
   const std::uint64_t limit = storageLimit(context);
   const std::uint64_t triangles = scene.triangleCount();
+  const std::uint64_t dynamicTriangles = triangleCount(scene, MeshSet::Dynamic);
   auto tooLarge = [&](const char* what, std::uint64_t bytes) {
     return InputError("BVH: scene '" + scene.name + "' (" + std::to_string(triangles) + " triangles) needs " +
                       mebibytes(bytes) + " of " + what + ", but " + context.deviceName() + " binds at most " +
@@ -52,9 +53,12 @@ Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuild
   };
   if (BvhBuilder::triangleBytes(triangles) > limit)
     throw tooLarge("BVH triangles", BvhBuilder::triangleBytes(triangles));
-  Bvh bvh = BvhBuilder(settings).build(scene);
-  const std::uint64_t nodeBytes = bvh.nodes.size() * sizeof(shared::BvhNode);
+  Bvh bvh = BvhBuilder(settings).build(scene, MeshSet::Static);
+  const std::uint64_t nodeBytes =
+      (bvh.nodes.size() + (dynamicTriangles ? std::max<std::uint64_t>(1, dynamicTriangles) : 0)) *
+      sizeof(shared::BvhNode);
   if (nodeBytes > limit) throw tooLarge("BVH nodes", nodeBytes);
+  if (bvh.triangles.size() + dynamicTriangles >= BVH_NO_HIT) throw tooLarge("BVH triangles", BVH_NO_HIT);
   return bvh;
 }
 
@@ -68,22 +72,53 @@ void recordCounterReset(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& c
 }  // namespace
 
 BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings)
-    : BvhTracer(context, buildChecked(context, scene, settings)) {}
+    : BvhTracer(context, scene, buildChecked(context, scene, settings), settings) {}
 
-BvhTracer::BvhTracer(const gpu::Context& context, Bvh bvh)
+BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, const BvhBuildSettings& settings)
     : context_(context),
       stats_(bvh.stats),
-      nodes_(context, bvh.nodes.size() * sizeof(shared::BvhNode), vk::BufferUsageFlagBits::eStorageBuffer, "bvh nodes"),
-      triangles_(context, bvh.triangles.size() * sizeof(shared::BvhTriangle), vk::BufferUsageFlagBits::eStorageBuffer,
-                 "bvh triangles"),
+      dynamic_(scene, settings),
+      dynamicRoot_(dynamic_.empty() ? BVH_NO_TREE : std::uint32_t(bvh.nodes.size())),
+      staticTriangles_(std::uint32_t(bvh.triangles.size())),
+      nodes_(context,
+             (bvh.nodes.size() + (dynamic_.empty() ? 0 : dynamic_.nodeCapacity())) * sizeof(shared::BvhNode),
+             vk::BufferUsageFlagBits::eStorageBuffer, "bvh nodes"),
+      triangles_(context, (bvh.triangles.size() + dynamic_.triangleCount()) * sizeof(shared::BvhTriangle),
+                 vk::BufferUsageFlagBits::eStorageBuffer, "bvh triangles"),
       counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
                 "bvh counters"),
       raysCounters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer, "bvh ray counters"),
-      tracePipeline_(context, bvh_trace_comp, kTraceBindings, 0, "bvh trace pipeline"),
+      tracePipeline_(context, bvh_trace_comp, kTraceBindings, sizeof(shared::BvhTracePush), "bvh trace pipeline"),
       raysPipeline_(context, bvh_rays_comp, kRaysBindings, sizeof(shared::BvhRaysPush), "bvh rays pipeline") {
-  nodes_.upload(std::span<const shared::BvhNode>(bvh.nodes));
-  triangles_.upload(std::span<const shared::BvhTriangle>(bvh.triangles));
+  // The static tree is written once, here; update() only ever writes after it.
+  std::memcpy(nodes_.data(), bvh.nodes.data(), bvh.nodes.size() * sizeof(shared::BvhNode));
+  std::memcpy(triangles_.data(), bvh.triangles.data(), bvh.triangles.size() * sizeof(shared::BvhTriangle));
   std::memset(counters_.data(), 0, kCounterBytes);
+  if (!dynamic_.empty()) {
+    const BvhStats& d = dynamic_.bvh().stats;
+    stats_.nodes += d.nodes;
+    stats_.leaves += d.leaves;
+    stats_.triangles += d.triangles;
+    stats_.buildMs += d.buildMs;
+    writeDynamic();
+  }
+  stats_.bytes = nodes_.size() + triangles_.size();
+}
+
+void BvhTracer::writeDynamic() {
+  std::span<shared::BvhNode> nodes(static_cast<shared::BvhNode*>(nodes_.data()), nodes_.size() / sizeof(shared::BvhNode));
+  std::span<shared::BvhTriangle> triangles(static_cast<shared::BvhTriangle*>(triangles_.data()),
+                                           triangles_.size() / sizeof(shared::BvhTriangle));
+  dynamic_.write(nodes, triangles, dynamicRoot_, staticTriangles_);
+}
+
+BvhRefitReport BvhTracer::update(const Scene& scene) {
+  if (dynamic_.empty()) return {};
+  const auto start = std::chrono::steady_clock::now();
+  BvhRefitReport report = dynamic_.update(scene);
+  writeDynamic();  // host-coherent memory: visible to the next submission
+  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
 }
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
@@ -102,6 +137,7 @@ void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) 
                                .buffer(4, job.count)
                                .buffer(5, job.frame)
                                .buffer(6, job.visibility));
+  tracePipeline_.pushConstants(cmd, shared::BvhTracePush{dynamicRoot_, 0u, 0u, 0u});
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
 }
@@ -149,7 +185,7 @@ std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuer
       const std::size_t perDispatch = std::size_t(maxGroups) * BVH_GROUP_SIZE;
       for (std::size_t first = 0; first < batch.size(); first += perDispatch) {
         const auto count = std::uint32_t(std::min(perDispatch, batch.size() - first));
-        raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{std::uint32_t(first), count, anyHit ? 1u : 0u, 0u});
+        raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{std::uint32_t(first), count, anyHit ? 1u : 0u, dynamicRoot_});
         cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
       }
       gpu::computeToComputeAndHost(cmd);

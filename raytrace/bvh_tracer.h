@@ -1,5 +1,8 @@
 // The GPU BVH tracer: the scene's BVH (BvhBuilder) in two storage buffers, shadow rays for a
 // TraceJob by an indirect dispatch of bvh_trace.comp, and arbitrary rays through bvh_rays.comp.
+// Scenes with moving meshes get two trees in those buffers (shared/bvh.h): the static meshes'
+// (root 0, built once and never touched again) and the dynamic meshes' right after it, refit or
+// rebuilt by update() (raytrace/bvh_refit.h) in room sized for any rebuild, so nothing reallocates.
 #pragma once
 #include <optional>
 #include <span>
@@ -8,6 +11,7 @@
 
 #include "gpu/pipeline.h"
 #include "raytrace/bvh_builder.h"
+#include "raytrace/bvh_refit.h"
 #include "raytrace/shadow_tracer.h"
 
 namespace penumbra {
@@ -25,7 +29,20 @@ class BvhTracer final : public ShadowTracer {
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
   TraceReport finish(const TraceJob& job) override;  // the counters of the last record() (each resets them)
 
+  // Both trees: nodes, leaves, triangles, bytes (as allocated) and buildMs summed; sahCost and
+  // maxDepth are the static tree's. The dynamic tree alone: dynamicBvh().bvh().stats.
   const BvhStats& stats() const { return stats_; }
+  const DynamicBvh& dynamicBvh() const { return dynamic_; }
+  // Node index of the dynamic tree's root (BVH_NO_TREE without dynamic meshes); the static tree
+  // fills nodes [0, dynamicRoot()) and triangles [0, staticTriangles()).
+  std::uint32_t dynamicRoot() const { return dynamicRoot_; }
+  std::uint32_t staticTriangles() const { return staticTriangles_; }
+
+  // The scene's dynamic meshes moved (same scene, same triangles): refits the dynamic tree, or
+  // rebuilds it when its SAH cost grew past BvhBuildSettings::rebuildGrowth, and rewrites only the
+  // dynamic part of both buffers. A no-op without dynamic meshes. Call it between frames (no
+  // submission may read the buffers). Throws InputError when the dynamic meshes changed size.
+  BvhRefitReport update(const Scene& scene);
   // The uploaded BVH, host visible (for the bandwidth model): BvhNode and BvhTriangle arrays.
   const gpu::Buffer& nodeBuffer() const { return nodes_; }
   const gpu::Buffer& triangleBuffer() const { return triangles_; }
@@ -37,11 +54,15 @@ class BvhTracer final : public ShadowTracer {
   const TraceReport& lastRaysReport() const { return raysReport_; }
 
  private:
-  BvhTracer(const gpu::Context& context, Bvh bvh);
+  BvhTracer(const gpu::Context& context, const Scene& scene, Bvh staticBvh, const BvhBuildSettings& settings);
+  void writeDynamic();
   static TraceReport readCounters(const gpu::Buffer& counters);
 
   const gpu::Context& context_;
   BvhStats stats_;
+  DynamicBvh dynamic_;
+  std::uint32_t dynamicRoot_ = BVH_NO_TREE;
+  std::uint32_t staticTriangles_ = 0;
   gpu::Buffer nodes_;
   gpu::Buffer triangles_;
   gpu::Buffer counters_;      // BVH_COUNTER_WORDS uint: rays, node visits, triangle tests (64-bit each)

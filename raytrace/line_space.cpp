@@ -46,7 +46,7 @@ std::uint64_t defaultLineSpaceBudget() {
 }
 
 LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
-                         const std::string& sceneName) {
+                         const std::string& sceneName, std::uint64_t dynamicBvhBytes) {
   const auto start = std::chrono::steady_clock::now();
   const std::uint32_t n = tree.n, depth = tree.depth;
   const std::uint64_t groups = tree.nodes.size() - tree.stats.nodesPerLevel[depth - 1];
@@ -54,9 +54,11 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
   const std::uint64_t budget = settings.budgetBytes ? settings.budgetBytes : defaultLineSpaceBudget();
   const std::string set = "line space (N=" + std::to_string(n) + ", d=" + std::to_string(depth) + ") of scene '" +
                           sceneName + "'";
-  if (sizes.total() > budget) {
-    throw InputError(set + " needs " + megabytes(sizes.total()) + " (" + std::to_string(tree.nodes.size()) +
-                     " subdivided nodes) but the budget is " + megabytes(budget) +
+  if (sizes.total() + dynamicBvhBytes > budget) {
+    throw InputError(set + " needs " + megabytes(sizes.total() + dynamicBvhBytes) + " (" +
+                     std::to_string(tree.nodes.size()) + " subdivided nodes" +
+                     (dynamicBvhBytes ? ", and " + megabytes(dynamicBvhBytes) + " for the moving meshes' BVH" : "") +
+                     ") but the budget is " + megabytes(budget) +
                      "; lower N (--linespace-n) or d (--linespace-depth), or raise --linespace-budget (MB)");
   }
   const std::uint64_t largest = std::max(sizes.treeBytes, std::max(sizes.nodeBytes, sizes.lineSpaceBytes));
@@ -122,7 +124,8 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
   s.treeBytes = ls.tree.size() * sizeof(std::uint32_t);
   s.nodeBytes = ls.nodes.size() * sizeof(shared::LsNode);
   s.lineSpaceBytes = ls.bits.size() * sizeof(std::uint32_t);
-  s.bytes = s.treeBytes + s.nodeBytes + s.lineSpaceBytes;
+  s.dynamicBvhBytes = dynamicBvhBytes;
+  s.bytes = s.treeBytes + s.nodeBytes + s.lineSpaceBytes + dynamicBvhBytes;
   s.treeMs = tree.stats.buildMs;
   s.tableMs = tableMs;
   s.lineSpaceMs = millisecondsSince(start);
@@ -131,10 +134,11 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
   return ls;
 }
 
-LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes) {
+LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
+                         MeshSet set, std::uint64_t dynamicBvhBytes) {
   NTreeBuilder::validate(settings.n, settings.depth);
-  const NTree tree = NTreeBuilder(settings.n, settings.depth).build(scene);
-  return buildLineSpace(tree, settings, maxPoolBytes, scene.name);
+  const NTree tree = NTreeBuilder(settings.n, settings.depth).build(scene, set);
+  return buildLineSpace(tree, settings, maxPoolBytes, scene.name, dynamicBvhBytes);
 }
 
 }  // namespace penumbra

@@ -15,7 +15,7 @@
 namespace penumbra {
 
 static_assert(sizeof(shared::LsNode) == 32, "LsNode must match std430");
-static_assert(sizeof(shared::LsPush) == 16, "LsPush must match std430");
+static_assert(sizeof(shared::LsPush) == 32, "LsPush must match std430");
 
 struct LineSpaceSettings {
   std::uint32_t n = 6;             // branching factor N, LS_MIN_N..LS_MAX_N
@@ -35,7 +35,8 @@ struct LineSpaceStats {
   std::uint64_t nodes = 0;        // subdivided nodes = line spaces
   std::uint64_t leaves = 0;       // non-empty cells at level d (not stored in the pools)
   std::uint64_t treeBytes = 0, nodeBytes = 0, lineSpaceBytes = 0;
-  std::uint64_t bytes = 0;        // the three pools as uploaded
+  std::uint64_t dynamicBvhBytes = 0;  // the moving meshes' BVH traced beside it (LineSpaceTracer), as allocated
+  std::uint64_t bytes = 0;        // the three pools as uploaded, plus dynamicBvhBytes
   double treeMs = 0.0;            // N-tree build
   double tableMs = 0.0;           // shaft table (0 when it was cached)
   double lineSpaceMs = 0.0;       // bits
@@ -67,11 +68,13 @@ LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_
 std::uint64_t defaultLineSpaceBudget();
 
 // Builds the pools on top of `tree`. Throws InputError naming (N, d), the size in MB and how to
-// change it when the pools exceed the budget or one pool exceeds maxPoolBytes (the device's
-// maxStorageBufferRange; 0 = no limit).
+// change it when the pools and dynamicBvhBytes (the moving meshes' BVH that the tracer keeps
+// beside the line space, counted against the same budget) exceed the budget, or one pool exceeds
+// maxPoolBytes (the device's maxStorageBufferRange; 0 = no limit).
 LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
-                         const std::string& sceneName);
-// The N-tree and then the pools; the stats include the tree's build time.
-LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes);
+                         const std::string& sceneName, std::uint64_t dynamicBvhBytes = 0);
+// The N-tree over the meshes in `set` and then the pools; the stats include the tree's build time.
+LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
+                         MeshSet set = MeshSet::All, std::uint64_t dynamicBvhBytes = 0);
 
 }  // namespace penumbra

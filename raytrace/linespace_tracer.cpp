@@ -1,5 +1,6 @@
 #include "raytrace/linespace_tracer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -22,34 +23,81 @@ constexpr gpu::Binding kBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eSto
                                       {4, vk::DescriptorType::eStorageBuffer},
                                       {5, vk::DescriptorType::eStorageBuffer},
                                       {6, vk::DescriptorType::eStorageBuffer},
-                                      {7, vk::DescriptorType::eStorageBuffer}};
+                                      {7, vk::DescriptorType::eStorageBuffer},
+                                      {LS_BINDING_BVH_NODES, vk::DescriptorType::eStorageBuffer},
+                                      {LS_BINDING_BVH_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
+
+constexpr std::uint32_t kDynamicRoot = 1;  // node 0 stays unused: inner index 0 marks an empty slot
+
+// The dynamic BVH's buffers for `triangles` moving triangles: room for any rebuild
+// (DynamicBvh::nodeCapacity) after the unused node 0; at least one triangle, as bindings need.
+vk::DeviceSize bvhNodeBytes(std::uint64_t triangles) {
+  return (kDynamicRoot + (triangles ? std::max<std::uint64_t>(1, triangles) : 0)) * sizeof(shared::BvhNode);
+}
+vk::DeviceSize bvhTriangleBytes(std::uint64_t triangles) {
+  return std::max<std::uint64_t>(1, triangles) * sizeof(shared::BvhTriangle);
+}
 
 LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
   context.requireSubgroupArithmetic("LineSpaceTracer");
-  return buildLineSpace(scene, settings, context.physicalDevice().getProperties().limits.maxStorageBufferRange);
+  const std::uint64_t moving = triangleCount(scene, MeshSet::Dynamic);
+  return buildLineSpace(scene, settings, context.physicalDevice().getProperties().limits.maxStorageBufferRange,
+                        MeshSet::Static, bvhNodeBytes(moving) + bvhTriangleBytes(moving));
 }
 
 }  // namespace
 
 LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings)
-    : LineSpaceTracer(context, buildChecked(context, scene, settings), settings.startOffsetCells) {}
+    : LineSpaceTracer(context, scene, buildChecked(context, scene, settings), settings) {}
 
-LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, LineSpace ls, float startOffsetCells)
+LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace ls,
+                                 const LineSpaceSettings& settings)
     : stats_(ls.stats),
-      push_{ls.n, ls.depth, shared::lsWordsPerNode(ls.n),
-            startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth))},
+      dynamic_(scene),
+      push_{ls.n,
+            ls.depth,
+            shared::lsWordsPerNode(ls.n),
+            settings.startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth)),
+            dynamic_.empty() ? BVH_NO_TREE : kDynamicRoot,
+            0u,
+            0u,
+            0u},
       tree_(context, ls.tree.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "ls tree pool"),
       nodes_(context, ls.nodes.size() * sizeof(shared::LsNode), vk::BufferUsageFlagBits::eStorageBuffer, "ls node pool"),
       bits_(context, ls.bits.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
             "ls line-space pool"),
       counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
                 "ls counters"),
+      bvhNodes_(context, bvhNodeBytes(dynamic_.triangleCount()), vk::BufferUsageFlagBits::eStorageBuffer,
+                "ls dynamic bvh nodes"),
+      bvhTriangles_(context, bvhTriangleBytes(dynamic_.triangleCount()), vk::BufferUsageFlagBits::eStorageBuffer,
+                    "ls dynamic bvh triangles"),
       pipeline_(context, linespace_trace_comp, kBindings, sizeof(shared::LsPush), "linespace trace pipeline") {
   tree_.upload(std::span<const std::uint32_t>(ls.tree));
   nodes_.upload(std::span<const shared::LsNode>(ls.nodes));
   bits_.upload(std::span<const std::uint32_t>(ls.bits));
   std::memset(counters_.data(), 0, kCounterBytes);
+  std::memset(bvhNodes_.data(), 0, bvhNodes_.size());  // defined contents even where no ray looks
+  std::memset(bvhTriangles_.data(), 0, bvhTriangles_.size());
+  writeDynamic();
+}
+
+void LineSpaceTracer::writeDynamic() {
+  std::span<shared::BvhNode> nodes(static_cast<shared::BvhNode*>(bvhNodes_.data()),
+                                   bvhNodes_.size() / sizeof(shared::BvhNode));
+  std::span<shared::BvhTriangle> triangles(static_cast<shared::BvhTriangle*>(bvhTriangles_.data()),
+                                           bvhTriangles_.size() / sizeof(shared::BvhTriangle));
+  dynamic_.write(nodes, triangles, kDynamicRoot, 0);
+}
+
+BvhRefitReport LineSpaceTracer::update(const Scene& scene) {
+  if (dynamic_.empty()) return {};
+  const auto start = std::chrono::steady_clock::now();
+  BvhRefitReport report = dynamic_.update(scene);
+  writeDynamic();  // host-coherent memory: visible to the next submission
+  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return report;
 }
 
 void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
@@ -70,7 +118,9 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
                           .buffer(4, job.points)
                           .buffer(5, job.count)
                           .buffer(6, job.frame)
-                          .buffer(7, job.visibility));
+                          .buffer(7, job.visibility)
+                          .buffer(LS_BINDING_BVH_NODES, bvhNodes_)
+                          .buffer(LS_BINDING_BVH_TRIANGLES, bvhTriangles_));
   pipeline_.pushConstants(cmd, push_);
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()

@@ -4,10 +4,14 @@
 // shaft it runs through at the second-to-last level meets a non-empty cell, so shadows are
 // conservative (slightly too dark), except that the finest node holding the ray's start casts no
 // shadow on it (the paper's start-node skip).
+// Two-level for moving geometry: the line space covers the static meshes only (built once); the
+// dynamic meshes get their own BVH (DynamicBvh, refit or rebuilt by update()), which the same
+// kernel traces exactly for every ray the line space leaves unoccluded.
 #pragma once
 #include <string>
 
 #include "gpu/pipeline.h"
+#include "raytrace/bvh_refit.h"
 #include "raytrace/line_space.h"
 #include "raytrace/shadow_tracer.h"
 
@@ -15,9 +19,10 @@ namespace penumbra {
 
 class LineSpaceTracer final : public ShadowTracer {
  public:
-  // Builds and uploads the line space. Throws InputError for bad (N, d), an empty scene, or pools
-  // over the budget or over the device's maxStorageBufferRange (128 MiB on lavapipe), and
-  // std::runtime_error when the device lacks subgroup arithmetic in compute shaders.
+  // Builds and uploads the line space (static meshes) and the dynamic BVH. Throws InputError for
+  // bad (N, d), a scene without static triangles, or pools (with the dynamic BVH) over the budget
+  // or over the device's maxStorageBufferRange (128 MiB on lavapipe), and std::runtime_error when
+  // the device lacks subgroup arithmetic in compute shaders.
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings = {});
 
   std::string name() const override { return "ls"; }
@@ -26,16 +31,27 @@ class LineSpaceTracer final : public ShadowTracer {
   TraceReport finish(const TraceJob& job) override;  // rays and node visits of the last record()
 
   const LineSpaceStats& stats() const { return stats_; }
+  const DynamicBvh& dynamicBvh() const { return dynamic_; }
+
+  // The scene's dynamic meshes moved: refits (or rebuilds) their BVH and rewrites it; the line
+  // space is not touched. A no-op without dynamic meshes; call it between frames.
+  BvhRefitReport update(const Scene& scene);
 
  private:
-  LineSpaceTracer(const gpu::Context& context, LineSpace lineSpace, float startOffsetCells);
+  LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace lineSpace,
+                  const LineSpaceSettings& settings);
+  void writeDynamic();
 
   LineSpaceStats stats_;
+  DynamicBvh dynamic_;
   shared::LsPush push_{};
   gpu::Buffer tree_;
   gpu::Buffer nodes_;
   gpu::Buffer bits_;
   gpu::Buffer counters_;  // LS_COUNTER_WORDS uint
+  // The dynamic BVH: node 0 unused (index 0 marks an empty slot), its root at node 1.
+  gpu::Buffer bvhNodes_;
+  gpu::Buffer bvhTriangles_;
   gpu::ComputePipeline pipeline_;
 };
 

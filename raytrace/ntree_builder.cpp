@@ -147,14 +147,19 @@ void NTreeBuilder::validate(std::uint32_t n, std::uint32_t depth) {
 
 NTreeBuilder::NTreeBuilder(std::uint32_t n, std::uint32_t depth) : n_(n), depth_(depth) { validate(n, depth); }
 
-NTree NTreeBuilder::build(const Scene& scene) const {
+NTree NTreeBuilder::build(const Scene& scene, MeshSet set) const {
   const auto start = std::chrono::steady_clock::now();
   Triangles t;
-  t.v.reserve(scene.triangleCount() * 3);
+  t.v.reserve(triangleCount(scene, set) * 3);
   for (const Mesh& mesh : scene.meshes) {
+    if (!inMeshSet(mesh, set)) continue;
     for (std::uint32_t index : mesh.indices) t.v.push_back(mesh.positions[index]);
   }
-  if (t.count() == 0) throw InputError("line space: scene '" + scene.name + "' has no triangles");
+  if (t.count() == 0) {
+    throw InputError("line space: scene '" + scene.name + "' has no " +
+                     (set == MeshSet::Static ? "static triangles (the line space covers static meshes; use --tracer bvh)"
+                                             : "triangles"));
+  }
   Bounds bounds;
   for (const glm::vec3& p : t.v) bounds.extend(p);
   const glm::vec3 extent = bounds.hi - bounds.lo;

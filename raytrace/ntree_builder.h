@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "core/scene.h"
+#include "raytrace/bvh_builder.h"
 
 namespace penumbra {
 
@@ -41,7 +42,8 @@ struct NTree {
   // Per node N^3 entries: kEmpty, a subdivided node's index, or kLeafBit | leaf index.
   std::vector<std::uint32_t> children;
   std::vector<Leaf> leaves;
-  std::vector<std::uint32_t> leafTriangles;  // triangle indices in scene order (meshes, then triangles)
+  // Triangle indices in scene order (meshes, then triangles) over the meshes the tree was built on.
+  std::vector<std::uint32_t> leafTriangles;
   NTreeStats stats;
 
   std::uint32_t child(std::uint32_t node, std::uint32_t cell) const { return children[nodes[node].childBase + cell]; }
@@ -58,8 +60,10 @@ class NTreeBuilder {
   NTreeBuilder(std::uint32_t n, std::uint32_t depth);
   static void validate(std::uint32_t n, std::uint32_t depth);
 
-  // Throws InputError for a scene without triangles. Builds the root's children on all cores.
-  NTree build(const Scene& scene) const;
+  // Over the meshes in `set` (the line-space tracer: the static ones; moving ones are traced by
+  // their own BVH). Throws InputError when they have no triangles. Builds the root's children on
+  // all cores.
+  NTree build(const Scene& scene, MeshSet set = MeshSet::All) const;
 
  private:
   std::uint32_t n_, depth_;

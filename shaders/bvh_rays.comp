@@ -15,8 +15,8 @@ void main() {
   if (gl_GlobalInvocationID.x < push.count) {
     uint index = push.first + gl_GlobalInvocationID.x;
     RayQuery q = queries[index];
-    hits[index] = push.anyHit != 0u ? bvhTraverse(q.origin, q.direction, q.tMin, q.tMax, true)
-                                    : bvhClosestHit(q.origin, q.direction, q.tMin, q.tMax);
+    hits[index] = push.anyHit != 0u ? bvhAnyHitRecord(q.origin, q.direction, q.tMin, q.tMax, push.dynamicRoot)
+                                    : bvhClosestHit(q.origin, q.direction, q.tMin, q.tMax, push.dynamicRoot);
     rays = 1u;
   }
   bvhAddCounters(rays);

@@ -14,6 +14,7 @@ layout(std430, binding = 3) readonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+layout(push_constant) uniform Push { BvhTracePush push; };
 
 void main() {
   uint index = gl_GlobalInvocationID.x;
@@ -32,7 +33,7 @@ void main() {
       vec3 dir = directionToLight(light, point.position, q);
       float tMax = shadowRayEnd(distance(origin, q), directional, point.rayMax);
       ++rays;
-      if (!bvhAnyHit(origin, dir, 0.0f, tMax)) ++visible;
+      if (!bvhAnyHit(origin, dir, 0.0f, tMax, push.dynamicRoot)) ++visible;
     }
     visibility[point.pixel] = float(visible) / float(n);
   }

@@ -1,6 +1,9 @@
-// BVH traversal, included by bvh_trace.comp and bvh_rays.comp (not compiled on its own).
-// Declares the node, triangle and counter buffers at BVH_BINDING_*; includers enable
-// GL_KHR_shader_subgroup_basic and _arithmetic (for bvhAddCounters).
+// BVH traversal, included by bvh_trace.comp, bvh_rays.comp and linespace_trace.comp (not
+// compiled on its own). Declares the node, triangle and counter buffers at BVH_BINDING_*
+// (BVH_NO_COUNTERS: no counter buffer and no bvhAddCounters, for kernels with their own);
+// includers enable GL_KHR_shader_subgroup_basic and _arithmetic (for bvhAddCounters).
+// The buffers may hold two trees (shared/bvh.h): the static one at node 0 and a dynamic one
+// whose root the caller passes; bvhAnyHit and bvhClosestHit answer for both.
 // Each visit fetches one 64-byte node and slab-tests both child boxes; leaves are tested at once,
 // inner children are entered nearer first with the farther one on a short per-invocation stack.
 // The triangle test is Embree's robust one (origin-shifted Pluecker edge tests), so rays that
@@ -9,7 +12,9 @@
 
 layout(std430, binding = BVH_BINDING_NODES) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
 layout(std430, binding = BVH_BINDING_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
+#ifndef BVH_NO_COUNTERS
 layout(std430, binding = BVH_BINDING_COUNTERS) buffer BvhCounters { uint bvhCounters[BVH_COUNTER_WORDS]; };
+#endif
 
 // Statistics of the calling invocation, added to by every traversal (reset by the caller).
 uint bvhNodeVisits = 0u;
@@ -102,15 +107,16 @@ bool bvhLeaf(uint first, uint count, vec3 origin, vec3 dir, float tMin, inout fl
   return found;
 }
 
-// Traversal shared by both queries; anyHit is a constant at every call site, so the compiler
-// specialises the loop. Returns the hit (t < 0 and BVH_NO_HIT on a miss). The two child slots are
-// handled without loops or indexed locals, which GPUs would otherwise spill to memory.
-RayHit bvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
+// Traversal of the tree rooted at `root`, shared by both queries; anyHit is a constant at every
+// call site, so the compiler specialises the loop. Returns the hit (t < 0 and BVH_NO_HIT on a
+// miss). The two child slots are handled without loops or indexed locals, which GPUs would
+// otherwise spill to memory.
+RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
   RayHit hit = RayHit(-1.0f, BVH_NO_HIT, 0u, 0u);
   vec3 invDir = bvhInverseDirection(dir);
   uint stack[BVH_STACK_SIZE];
   uint depth = 0u;
-  uint node = 0u;
+  uint node = root;
   for (;;) {
     ++bvhNodeVisits;
     BvhNode n = bvhNodes[node];
@@ -126,7 +132,7 @@ RayHit bvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
       if (bvhLeaf(n.child[1].index, n.child[1].count, origin, dir, tMin, tMax, hit, anyHit) && anyHit) return hit;
       go1 = false;
     }
-    go1 = go1 && n.child[1].index != 0u;  // inner index 0 (the root) marks an empty slot
+    go1 = go1 && n.child[1].index != 0u;  // inner index 0 (the static root) marks an empty slot
     if (!anyHit) {
       // A leaf hit may have shortened the ray to before an inner child's entry.
       float limit = tMax * kBvhExitScale;
@@ -147,16 +153,32 @@ RayHit bvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
   return hit;
 }
 
+// The first hit found within [tMin, tMax]: the static tree first (most rays end there), then the
+// dynamic tree rooted at dynamicRoot (BVH_NO_TREE: none).
+RayHit bvhAnyHitRecord(vec3 origin, vec3 dir, float tMin, float tMax, uint dynamicRoot) {
+  RayHit hit = bvhTraverse(0u, origin, dir, tMin, tMax, true);
+  if (hit.triangle == BVH_NO_HIT && dynamicRoot != BVH_NO_TREE)
+    hit = bvhTraverse(dynamicRoot, origin, dir, tMin, tMax, true);
+  return hit;
+}
+
 // Whether anything lies on the ray within [tMin, tMax]; stops at the first hit found.
-bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax) {
-  return bvhTraverse(origin, dir, tMin, tMax, true).triangle != BVH_NO_HIT;
+bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax, uint dynamicRoot) {
+  return bvhAnyHitRecord(origin, dir, tMin, tMax, dynamicRoot).triangle != BVH_NO_HIT;
 }
 
-// The nearest hit within [tMin, tMax].
-RayHit bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax) {
-  return bvhTraverse(origin, dir, tMin, tMax, false);
+// The nearest hit within [tMin, tMax] in either tree: the dynamic tree only looks before the
+// static tree's hit.
+RayHit bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, uint dynamicRoot) {
+  RayHit hit = bvhTraverse(0u, origin, dir, tMin, tMax, false);
+  if (dynamicRoot != BVH_NO_TREE) {
+    RayHit moving = bvhTraverse(dynamicRoot, origin, dir, tMin, hit.triangle != BVH_NO_HIT ? hit.t : tMax, false);
+    if (moving.triangle != BVH_NO_HIT) hit = moving;
+  }
+  return hit;
 }
 
+#ifndef BVH_NO_COUNTERS
 // Adds to a 64-bit counter kept as (low, high) words: the low word's atomic returns its old value,
 // and exactly the add that wraps it carries one into the high word.
 void bvhAddCounter(uint word, uint value) {
@@ -179,3 +201,4 @@ void bvhAddCounters(uint rays) {
     bvhAddCounter(BVH_COUNTER_TRIANGLE_TESTS, subgroupTests);
   }
 }
+#endif  // BVH_NO_COUNTERS

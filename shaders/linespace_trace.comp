@@ -11,6 +11,11 @@
 #include "shared/shading_point.h"
 #include "shared/trace.h"
 #include "linespace_traverse.glsl"
+// Moving meshes are not in the line space; their own BVH is traced in the same query.
+#define BVH_BINDING_NODES LS_BINDING_BVH_NODES
+#define BVH_BINDING_TRIANGLES LS_BINDING_BVH_TRIANGLES
+#define BVH_NO_COUNTERS
+#include "bvh_traverse.glsl"
 layout(local_size_x = TRACE_GROUP_SIZE) in;
 layout(std430, binding = 4) readonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 5) readonly buffer Count { TraceCount traceCount; };
@@ -36,9 +41,15 @@ void main() {
       ++rays;
       // The line space answers from where the ray is startOffset above the surface on (see LsPush).
       float tStart = min(lsPush.startOffset / max(dot(dir, point.normal), 1e-3), tMax);
-      if (!lsOccluded(origin, dir, tStart, tMax)) ++visible;
+      // The dynamic BVH is exact, so it takes the whole segment, as bvh_trace.comp does.
+      if (lsOccluded(origin, dir, tStart, tMax)) continue;
+      if (lsPush.dynamicRoot != BVH_NO_TREE &&
+          bvhTraverse(lsPush.dynamicRoot, origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT)
+        continue;
+      ++visible;
     }
     visibility[point.pixel] = float(visible) / float(n);
   }
+  lsNodeVisits += bvhNodeVisits;  // the dynamic BVH's visits count as traversal steps too
   lsAddCounters(rays);
 }

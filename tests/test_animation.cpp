@@ -118,7 +118,7 @@ TEST_P(MovingFrames, SrtFollowsTheMovingDroneAndMatchesTheReference) {
   test::expectValidationSilent();
 }
 
-INSTANTIATE_TEST_SUITE_P(Tracers, MovingFrames, ::testing::Values("embree"));
+INSTANTIATE_TEST_SUITE_P(Tracers, MovingFrames, ::testing::Values("embree", "bvh"));
 
 }  // namespace
 }  // namespace penumbra

@@ -12,10 +12,22 @@ PN_BEGIN
 #define BVH_GROUP_SIZE 64      // bvh_rays.comp invocations per workgroup (one ray each)
 #define BVH_NO_HIT 0xffffffffu  // RayHit.triangle of a miss (its t is then negative)
 
-// Bindings every BVH kernel shares; the kernel's own buffers follow.
+// Bindings every BVH kernel shares; the kernel's own buffers follow. A kernel that traces a BVH
+// beside its own structure (linespace_trace.comp) defines them first to move them.
+#ifndef BVH_BINDING_NODES
 #define BVH_BINDING_NODES 0
+#endif
+#ifndef BVH_BINDING_TRIANGLES
 #define BVH_BINDING_TRIANGLES 1
+#endif
+#ifndef BVH_BINDING_COUNTERS
 #define BVH_BINDING_COUNTERS 2
+#endif
+
+// Two trees share the node and triangle buffers (raytrace/bvh_tracer.h): the static scene's,
+// rooted at node 0, and, in scenes with moving meshes, the dynamic meshes' tree after it, whose
+// root the kernels get by push constant (BVH_NO_TREE: none; 0 can never be a second root).
+#define BVH_NO_TREE 0u
 
 // One child slot, std430 32 bytes. count == 0: `index` is an inner node (never 0, the root, so
 // index == 0 && count == 0 marks an empty slot: only the root of a one-leaf tree has one).
@@ -67,10 +79,16 @@ struct RayHit {
 };
 
 struct BvhRaysPush {
-  uint first;   // first ray of this dispatch
-  uint count;   // rays in this dispatch
-  uint anyHit;  // 1: stop at the first hit; 0: closest hit
-  uint pad0;
+  uint first;        // first ray of this dispatch
+  uint count;        // rays in this dispatch
+  uint anyHit;       // 1: stop at the first hit; 0: closest hit
+  uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE
+};
+
+// Push constants of bvh_trace.comp, 16 bytes.
+struct BvhTracePush {
+  uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE
+  uint pad0, pad1, pad2;
 };
 
 PN_END

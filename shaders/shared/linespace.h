@@ -43,12 +43,19 @@ struct LsNode {
   uint pad0, pad1;
 };
 
-// Push constants of linespace_trace.comp, 16 bytes.
+// The dynamic meshes' BVH that linespace_trace.comp traces beside the line space (two-level: the
+// line space holds the static meshes only); its nodes and triangles at these bindings.
+#define LS_BINDING_BVH_NODES 8
+#define LS_BINDING_BVH_TRIANGLES 9
+
+// Push constants of linespace_trace.comp, 32 bytes.
 struct LsPush {
   uint n;             // branching factor N
   uint depth;         // maximum depth d: leaves at level d, subdivided nodes at levels 0 .. d-1
   uint wordsPerNode;  // lsWordsPerNode(n)
   float startOffset;  // world units: occluders closer to the surface along the ray are ignored (LineSpaceSettings)
+  uint dynamicRoot;   // root node of the dynamic BVH, or 0 (BVH_NO_TREE): no moving meshes
+  uint pad0, pad1, pad2;
 };
 
 PN_FN uint lsShaftCount(uint n) { return 15u * n * n * n * n; }
