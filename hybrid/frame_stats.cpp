@@ -55,7 +55,7 @@ nlohmann::json FrameStats::toJson() const {
           {"memory_bytes", memoryBytes},
           {"setup_ms", setupMs},
           {"refit", refit ? nlohmann::json{{"ms", refit->ms}, {"sah", refit->sah}, {"built_sah", refit->builtSah},
-                                           {"sah_growth", refit->builtSah > 0.0 ? refit->sah / refit->builtSah : 1.0},
+                                           {"sah_growth", refit->growth},
                                            {"rebuilt", refit->rebuilt}, {"rebuilds", refit->rebuilds}}
                           : nlohmann::json(nullptr)},
           {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},

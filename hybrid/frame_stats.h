@@ -41,6 +41,7 @@ struct FrameStats {
     double ms = 0.0;          // refit (or rebuild) and upload, wall clock
     double sah = 0.0;         // SAH cost of the dynamic BVH now
     double builtSah = 0.0;    // ... when it was last built
+    double growth = 1.0;      // the refit tree's SAH over the built one's, which decided (> limit: rebuilt)
     bool rebuilt = false;     // this update rebuilt it
     std::uint64_t rebuilds = 0;  // rebuilds so far
   };

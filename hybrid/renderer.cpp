@@ -83,6 +83,7 @@ void Renderer::sceneMoved() {
   if (traced) {
     refit.sah = traced->sah;
     refit.builtSah = traced->builtSah;
+    refit.growth = traced->growth;
     refit.rebuilt = traced->rebuilt;
     refit.rebuilds = traced->rebuilds;
   }
