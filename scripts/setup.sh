@@ -7,6 +7,7 @@ packages=(
   libglm-dev libembree-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libtinyexr-dev
   nlohmann-json3-dev libcli11-dev libgtest-dev
   python3-matplotlib chromium  # report.html charts (bench/report/report.py); the report test renders the page
+  libglfw3-dev libimgui-dev libgl-dev xvfb xauth  # penumbra-demo (GLFW + OpenGL + Dear ImGui); its tests run it under Xvfb
 )
 missing=()
 for p in "${packages[@]}"; do

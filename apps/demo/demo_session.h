@@ -1,0 +1,96 @@
+// The rendering side of the demo, with no window: the scene (posed in place for animations), its
+// Renderer (made anew when a setting that is fixed per Renderer changes), method, camera, light and
+// animation time; the reference for the error overlay, kept while the view stays the same; and the
+// frame-to-frame change of the visibility buffer. The scripted runs and the UI both drive this.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/demo/camera_controller.h"
+#include "apps/run_config.h"
+#include "core/view.h"
+#include "gpu/context.h"
+#include "hybrid/renderer.h"
+
+namespace penumbra::demo {
+
+class DemoSession {
+ public:
+  // `canonicalViews`: render the camera and light exactly as a view file stores them (text round
+  // trip: up = +Y, the light's direction re-derived from its target), so that --save-view
+  // reproduces the frame bit for bit with `penumbra render --view`.
+  DemoSession(const gpu::Context& context, RunSetup setup, std::string method, bool canonicalViews);
+
+  const Scene& scene() const { return setup_.scene; }
+  const Bounds& bounds() const { return bounds_; }
+  const RenderSettings& settings() const { return setup_.settings; }
+  // A new Renderer (its structures are rebuilt on use); when refused, the previous one and rethrows.
+  void setSettings(const RenderSettings& settings);
+  const std::string& method() const { return method_; }
+  void setMethod(const std::string& method);  // InputError for unknown names
+
+  CameraController& cameraController() { return camera_; }
+  const Light& light() const { return light_; }
+  void setLight(const Light& light) { light_ = light; }
+  float lightSizeFraction() const { return lightSizeFraction_; }
+  void setLightSize(float fraction);  // rect and disk lights; InputError for other types
+  void setLightType(LightType type);
+
+  bool animated() const { return animated_; }
+  double time() const { return time_; }
+  void setTime(double seconds);  // poses the animated meshes and tells the renderer
+
+  // Renders the method for the current view; the change against the previous frame of the same
+  // method and resolution is then in temporalChange().
+  const Frame& render();
+  const Frame& frame() const { return frame_; }
+  std::optional<double> temporalChange() const { return temporalChange_; }
+
+  // Renders `ref` for the current view and keeps it (and its change against the previous one).
+  const Frame& renderReference();
+  // The reference when it was rendered for exactly the current view, time and settings; else null.
+  const Frame* reference() const;
+  std::optional<double> referenceTemporalChange() const { return referenceTemporalChange_; }
+  // |frame - reference| of the visibility as RGBA8 (core/metrics.h errorHeatmap; full scale 1 for
+  // hard shadows, 0.25 for soft ones, as in `penumbra compare`). Needs reference().
+  std::vector<std::uint8_t> errorHeatmap() const;
+
+  View view() const;  // what --save-view writes: the camera and light of the last render
+
+ private:
+  struct Key {  // what a rendered frame depends on besides the method
+    Camera camera;
+    Light light;
+    double time = 0.0;
+    std::uint64_t settingsVersion = 0;
+    bool operator==(const Key& other) const;
+  };
+  Key currentKey() const;
+  Camera renderCamera() const;
+  Light renderLight() const;
+
+  const gpu::Context& context_;
+  RunSetup setup_;
+  Bounds bounds_;
+  std::string method_;
+  bool canonicalViews_;
+  CameraController camera_;
+  Light light_;
+  float lightSizeFraction_;
+  bool animated_;
+  double time_ = 0.0;
+  std::uint64_t settingsVersion_ = 0;
+  std::unique_ptr<Renderer> renderer_;
+
+  Frame frame_;
+  std::optional<double> temporalChange_;
+  Frame reference_;
+  std::optional<Key> referenceKey_;
+  std::optional<double> referenceTemporalChange_;
+  Key lastKey_;
+};
+
+}  // namespace penumbra::demo
