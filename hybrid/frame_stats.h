@@ -38,7 +38,7 @@ struct FrameStats {
   // Dynamic scenes: the tracer's dynamic BVH after the last Renderer::sceneMoved() (refit, or a
   // rebuild when refitting grew its SAH cost past the threshold).
   struct Refit {
-    double ms = 0.0;          // refit (or rebuild) and upload, wall clock
+    double ms = 0.0;          // refit (or rebuild) and write to the GPU buffers, wall clock
     double sah = 0.0;         // SAH cost of the dynamic BVH now
     double builtSah = 0.0;    // ... when it was last built
     double growth = 1.0;      // the refit tree's SAH over the built one's, which decided (> limit: rebuilt)

@@ -71,24 +71,17 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
 }
 
 void Renderer::sceneMoved() {
-  const auto start = std::chrono::steady_clock::now();
   geometry_.update(scene_);
   embree_.reset();
-  FrameStats::Refit refit;
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
   // else the line space's (both hold the same tree over the same triangles).
   std::optional<BvhRefitReport> traced;
   if (lineSpace_) traced = lineSpace_->update(scene_);
   if (bvh_) traced = bvh_->update(scene_);
+  refit_.reset();
   if (traced) {
-    refit.sah = traced->sah;
-    refit.builtSah = traced->builtSah;
-    refit.growth = traced->growth;
-    refit.rebuilt = traced->rebuilt;
-    refit.rebuilds = traced->rebuilds;
+    refit_ = FrameStats::Refit{traced->ms, traced->sah, traced->builtSah, traced->growth, traced->rebuilt, traced->rebuilds};
   }
-  refit.ms = msSince(start);
-  refit_ = refit;
 }
 
 TraceJob Renderer::traceJob() const {

@@ -142,26 +142,39 @@ BvhRefitReport DynamicBvh::update(const Scene& scene) {
   report.builtSah = builtSah_;
   report.triangles = triangles_;
   report.rebuilds = rebuilds_;
+  write();
   report.ms = msSince(start);
   return report;
 }
 
-void DynamicBvh::write(std::span<shared::BvhNode> nodes, std::span<shared::BvhTriangle> triangles,
-                       std::uint32_t nodeOffset, std::uint32_t triangleOffset) const {
+void DynamicBvh::attach(const gpu::Buffer& nodes, const gpu::Buffer& triangles, std::uint32_t nodeOffset,
+                        std::uint32_t triangleOffset) {
   if (empty()) return;
-  if (nodeOffset == 0) throw std::logic_error("DynamicBvh::write: node offset 0 would read as an empty slot");
-  if (nodes.size() < nodeOffset + bvh_.nodes.size() || triangles.size() < triangleOffset + bvh_.triangles.size()) {
-    throw std::logic_error("DynamicBvh::write: the arrays are too small for the tree at its offsets");
+  if (nodeOffset == 0) throw std::logic_error("DynamicBvh::attach: node offset 0 would read as an empty slot");
+  if (nodes.size() < (nodeOffset + nodeCapacity()) * sizeof(shared::BvhNode) ||
+      triangles.size() < (triangleOffset + triangles_) * sizeof(shared::BvhTriangle)) {
+    throw std::logic_error("DynamicBvh::attach: the buffers are too small for the tree at its offsets");
   }
+  nodes_ = &nodes;
+  triangleBuffer_ = &triangles;
+  nodeOffset_ = nodeOffset;
+  triangleOffset_ = triangleOffset;
+  write();
+}
+
+void DynamicBvh::write() const {
+  if (!nodes_) return;
+  auto* nodes = static_cast<shared::BvhNode*>(nodes_->data()) + nodeOffset_;
   for (std::size_t i = 0; i < bvh_.nodes.size(); ++i) {
     shared::BvhNode node = bvh_.nodes[i];
     for (shared::BvhChild& child : node.child) {
-      if (child.count > 0) child.index += triangleOffset;
-      else if (child.index != 0) child.index += nodeOffset;  // index 0, count 0: the empty slot stays
+      if (child.count > 0) child.index += triangleOffset_;
+      else if (child.index != 0) child.index += nodeOffset_;  // index 0, count 0: the empty slot stays
     }
-    nodes[nodeOffset + i] = node;
+    nodes[i] = node;
   }
-  std::copy(bvh_.triangles.begin(), bvh_.triangles.end(), triangles.begin() + std::ptrdiff_t(triangleOffset));
+  std::copy(bvh_.triangles.begin(), bvh_.triangles.end(),
+            static_cast<shared::BvhTriangle*>(triangleBuffer_->data()) + triangleOffset_);
 }
 
 }  // namespace penumbra

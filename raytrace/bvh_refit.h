@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include "gpu/resources.h"
 #include "raytrace/bvh_builder.h"
 
 namespace penumbra {
@@ -49,15 +50,17 @@ class DynamicBvh {
     return nodeCapacity() * sizeof(shared::BvhNode) + triangles_ * sizeof(shared::BvhTriangle);
   }
 
-  // Refits to the scene's current positions, or rebuilds when the SAH grew past the threshold.
+  // Refits to the scene's current positions, or rebuilds when the SAH grew past the threshold, and
+  // writes the tree where attach() said (ms counts the write).
   // Throws InputError when the dynamic meshes' triangle counts changed since construction.
   BvhRefitReport update(const Scene& scene);
 
-  // Copies the tree into a node and a triangle array at nodeOffset / triangleOffset (its root at
-  // nodes[nodeOffset]), with child indices moved by the same offsets. nodeOffset must not be 0,
-  // which inner slots use to mark an empty slot.
-  void write(std::span<shared::BvhNode> nodes, std::span<shared::BvhTriangle> triangles, std::uint32_t nodeOffset,
-             std::uint32_t triangleOffset) const;
+  // Where the tree lives on the GPU: mapped node and triangle buffers, its root at node
+  // `nodeOffset` (not 0, which inner slots use to mark an empty slot) and child indices moved by the
+  // offsets. Writes the tree there now, and update() rewrites it there (host-coherent memory: the
+  // next submission sees it).
+  void attach(const gpu::Buffer& nodes, const gpu::Buffer& triangles, std::uint32_t nodeOffset,
+              std::uint32_t triangleOffset);
 
  private:
   BvhBuildSettings settings_;
@@ -66,6 +69,10 @@ class DynamicBvh {
   std::uint64_t triangles_ = 0;
   double builtSah_ = 0.0;
   std::uint64_t rebuilds_ = 0;
+  const gpu::Buffer* nodes_ = nullptr;  // attach()
+  const gpu::Buffer* triangleBuffer_ = nullptr;
+  std::uint32_t nodeOffset_ = 0, triangleOffset_ = 0;
+  void write() const;
 };
 
 }  // namespace penumbra

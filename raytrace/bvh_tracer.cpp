@@ -100,26 +100,12 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
     stats_.leaves += d.leaves;
     stats_.triangles += d.triangles;
     stats_.buildMs += d.buildMs;
-    writeDynamic();
+    dynamic_.attach(nodes_, triangles_, dynamicRoot_, staticTriangles_);
   }
   stats_.bytes = nodes_.size() + triangles_.size();
 }
 
-void BvhTracer::writeDynamic() {
-  std::span<shared::BvhNode> nodes(static_cast<shared::BvhNode*>(nodes_.data()), nodes_.size() / sizeof(shared::BvhNode));
-  std::span<shared::BvhTriangle> triangles(static_cast<shared::BvhTriangle*>(triangles_.data()),
-                                           triangles_.size() / sizeof(shared::BvhTriangle));
-  dynamic_.write(nodes, triangles, dynamicRoot_, staticTriangles_);
-}
-
-BvhRefitReport BvhTracer::update(const Scene& scene) {
-  if (dynamic_.empty()) return {};
-  const auto start = std::chrono::steady_clock::now();
-  BvhRefitReport report = dynamic_.update(scene);
-  writeDynamic();  // host-coherent memory: visible to the next submission
-  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return report;
-}
+BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   // The compaction's compute writes (points, count) feed this dispatch, its indirect arguments

@@ -55,7 +55,6 @@ class BvhTracer final : public ShadowTracer {
 
  private:
   BvhTracer(const gpu::Context& context, const Scene& scene, Bvh staticBvh, const BvhBuildSettings& settings);
-  void writeDynamic();
   static TraceReport readCounters(const gpu::Buffer& counters);
 
   const gpu::Context& context_;

@@ -80,25 +80,10 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
   std::memset(counters_.data(), 0, kCounterBytes);
   std::memset(bvhNodes_.data(), 0, bvhNodes_.size());  // defined contents even where no ray looks
   std::memset(bvhTriangles_.data(), 0, bvhTriangles_.size());
-  writeDynamic();
+  dynamic_.attach(bvhNodes_, bvhTriangles_, kDynamicRoot, 0);
 }
 
-void LineSpaceTracer::writeDynamic() {
-  std::span<shared::BvhNode> nodes(static_cast<shared::BvhNode*>(bvhNodes_.data()),
-                                   bvhNodes_.size() / sizeof(shared::BvhNode));
-  std::span<shared::BvhTriangle> triangles(static_cast<shared::BvhTriangle*>(bvhTriangles_.data()),
-                                           bvhTriangles_.size() / sizeof(shared::BvhTriangle));
-  dynamic_.write(nodes, triangles, kDynamicRoot, 0);
-}
-
-BvhRefitReport LineSpaceTracer::update(const Scene& scene) {
-  if (dynamic_.empty()) return {};
-  const auto start = std::chrono::steady_clock::now();
-  BvhRefitReport report = dynamic_.update(scene);
-  writeDynamic();  // host-coherent memory: visible to the next submission
-  report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return report;
-}
+BvhRefitReport LineSpaceTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
 void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   // As BvhTracer::record: the compaction's writes (points, count, the indirect arguments) feed

@@ -40,7 +40,6 @@ class LineSpaceTracer final : public ShadowTracer {
  private:
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace lineSpace,
                   const LineSpaceSettings& settings);
-  void writeDynamic();
 
   LineSpaceStats stats_;
   DynamicBvh dynamic_;

@@ -1,5 +1,4 @@
 // The GPU BVH against its own invariants and against Embree (robust mode, the reference).
-#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -16,6 +15,7 @@
 #include "core/gpu_light.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/embree_tracer.h"
+#include "embree_rays.h"
 #include "render_fixture.h"
 #include "shared/frame.h"
 #include "shared/trace.h"
@@ -162,60 +162,6 @@ TEST(BvhTracer, RefusesSceneBeyondTheStorageBindingLimit) {
 
 // ---- Arbitrary rays against Embree ---------------------------------------------------------
 
-// lavapipe lowers fma() to a multiply and an add, which is how Embree's SSE4.2 kernels round; its
-// AVX2 kernels (the default on current CPUs) fuse, as GPUs do. With the same rounding the two
-// robust triangle tests agree bit for bit, so even rays placed exactly on ties must agree.
-const char* embreeConfigFor(const gpu::Context& context) {
-  return context.deviceName().find("llvmpipe") != std::string::npos ? "isa=sse4.2" : nullptr;
-}
-
-struct EmbreeScene {
-  struct Release {
-    void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-    void operator()(RTCScene s) const { rtcReleaseScene(s); }
-  };
-  std::unique_ptr<RTCDeviceTy, Release> device;
-  std::unique_ptr<RTCSceneTy, Release> scene;
-
-  // One geometry, triangles in scene order, so primID is BvhTriangle.id.
-  EmbreeScene(const std::vector<Tri>& tris, const char* config)
-      : device(rtcNewDevice(config)), scene(rtcNewScene(device.get())) {
-    rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene.get(), RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), 3 * tris.size()));
-    auto* idx = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris.size()));
-    for (std::size_t i = 0; i < 3 * tris.size(); ++i) {
-      for (int k = 0; k < 3; ++k) v[3 * i + k] = float(tris[i / 3].v[i % 3][k]);
-      idx[i] = unsigned(i);
-    }
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene.get(), geom);
-    rtcReleaseGeometry(geom);
-    rtcCommitScene(scene.get());
-  }
-  static RTCRay ray(const RayQuery& q) {
-    return {q.origin.x, q.origin.y, q.origin.z, q.tMin, q.direction.x, q.direction.y, q.direction.z, 0.0f, q.tMax, ~0u};
-  }
-  RTCRayHit closest(const RayQuery& q) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{.ray = ray(q)};
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene.get(), &context, &rh);
-    return rh;
-  }
-  bool occluded(const RayQuery& q) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay r = ray(q);
-    rtcOccluded1(scene.get(), &context, &r);
-    return r.tfar < 0.0f;
-  }
-};
-
 double segmentDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
   const glm::dvec3 ab = b - a;
   return glm::length(p - (a + glm::clamp(glm::dot(p - a, ab) / std::max(glm::dot(ab, ab), 1e-300), 0.0, 1.0) * ab));
@@ -326,7 +272,7 @@ struct Agreement {
 void compareWithEmbree(const std::string& spec, std::size_t count, Agreement& a) {
   const Scene scene = loadScene(spec);
   const std::vector<Tri> tris = sceneTriangles(scene);
-  const EmbreeScene embree(tris, embreeConfigFor(validatedContext()));
+  const test::EmbreeRays embree(scene, validatedContext());
   BvhTracer tracer(validatedContext(), scene);
   const std::vector<RayQuery> rays = makeRays(scene, tris, count);
   const float radius = scene.bounds().radius();

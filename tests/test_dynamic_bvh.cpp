@@ -2,7 +2,6 @@
 // rebuilt, against Embree on the moved scene; the renderer's srt/frt and the two-level line space.
 // The meshes are moved here by rewriting their positions (rigid: rotate + translate, or per-piece
 // for the rebuild case), as an animation would between frames.
-#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include "raytrace/bvh_refit.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/linespace_tracer.h"
+#include "embree_rays.h"
 #include "render_fixture.h"
 #include "shared/trace.h"
 
@@ -72,66 +72,6 @@ struct Rest {
   }
 };
 
-// Embree over the scene's triangles as they are now (one geometry in scene order, so primID is
-// BvhTriangle.id), robust mode, the ISA the GPU traversal mirrors on lavapipe (see test_bvh.cpp).
-class EmbreeRays {
- public:
-  explicit EmbreeRays(const Scene& scene)
-      : device_(rtcNewDevice(validatedContext().deviceName().find("llvmpipe") != std::string::npos ? "isa=sse4.2"
-                                                                                                   : nullptr)),
-        scene_(rtcNewScene(device_.get())) {
-    rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    const std::size_t count = scene.triangleCount();
-    auto* v = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
-    auto* idx = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), count));
-    std::size_t corner = 0;
-    for (const Mesh& mesh : scene.meshes) {
-      for (std::uint32_t index : mesh.indices) {
-        const glm::vec3 p = mesh.positions[index];
-        v[3 * corner] = p.x;
-        v[3 * corner + 1] = p.y;
-        v[3 * corner + 2] = p.z;
-        idx[corner] = unsigned(corner);
-        ++corner;
-      }
-    }
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_.get(), geom);
-    rtcReleaseGeometry(geom);
-    rtcCommitScene(scene_.get());
-  }
-  RTCRayHit closest(const RayQuery& q) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{.ray = ray(q)};
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_.get(), &context, &rh);
-    return rh;
-  }
-  bool occluded(const RayQuery& q) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay r = ray(q);
-    rtcOccluded1(scene_.get(), &context, &r);
-    return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
-  }
-
- private:
-  struct Release {
-    void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-    void operator()(RTCScene s) const { rtcReleaseScene(s); }
-  };
-  static RTCRay ray(const RayQuery& q) {
-    return {q.origin.x, q.origin.y, q.origin.z, q.tMin, q.direction.x, q.direction.y, q.direction.z, 0.0f, q.tMax, ~0u};
-  }
-  std::unique_ptr<RTCDeviceTy, Release> device_;
-  std::unique_ptr<RTCSceneTy, Release> scene_;
-};
-
 // Rays from a sphere around `target` (2.5 of its radii) through random points of the box widened
 // by a fifth, and on through the far side: most pass through the object, some beside it.
 void addRaysThrough(const Bounds& target, std::size_t count, std::mt19937& rng, std::vector<RayQuery>& rays) {
@@ -161,7 +101,7 @@ struct Comparison {
 constexpr double kRelativeT = 1e-6;
 
 Comparison compareWithEmbree(BvhTracer& tracer, const Scene& scene, const std::vector<RayQuery>& rays) {
-  const EmbreeRays embree(scene);
+  const test::EmbreeRays embree(scene, validatedContext());
   const std::vector<RayHit> any = tracer.traceRays(rays, true);
   const std::vector<RayHit> closest = tracer.traceRays(rays, false);
   Comparison c;
