@@ -42,8 +42,14 @@ vk::DeviceSize bvhTriangleBytes(std::uint64_t triangles) {
 LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
   context.requireSubgroupArithmetic("LineSpaceTracer");
   const std::uint64_t moving = triangleCount(scene, MeshSet::Dynamic);
-  return buildLineSpace(scene, settings, context.physicalDevice().getProperties().limits.maxStorageBufferRange,
-                        MeshSet::Static, bvhNodeBytes(moving) + bvhTriangleBytes(moving));
+  const std::uint64_t limit = context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  if (const std::uint64_t largest = std::max(bvhNodeBytes(moving), bvhTriangleBytes(moving)); largest > limit) {
+    throw InputError("line space: the moving meshes of scene '" + scene.name + "' (" + std::to_string(moving) +
+                     " triangles) need " + std::to_string(largest >> 20) + " MiB in one BVH buffer, but " +
+                     context.deviceName() + " binds at most " + std::to_string(limit >> 20) +
+                     " MiB per storage buffer (maxStorageBufferRange); animate fewer triangles");
+  }
+  return buildLineSpace(scene, settings, limit, MeshSet::Static, bvhNodeBytes(moving) + bvhTriangleBytes(moving));
 }
 
 }  // namespace
