@@ -1,7 +1,7 @@
 // penumbra-demo: its camera/light math, and the binary itself run the way CI runs it, under Xvfb
 // (started here on a free display; a missing Xvfb fails the test, it is not skipped): a scripted
-// srt run whose screenshot must equal the CLI's render of the saved view, memory over 2,000
-// frames, and bad input.
+// srt run whose screenshot must equal the CLI's render of the saved view, the overlays marking
+// exactly the pixels the method flagged, memory over 2,000 frames, and bad input.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
@@ -309,6 +310,52 @@ TEST_F(DemoTest, ScriptedSrtMatchesTheCliRenderOfTheSavedView) {
             << kTolerance << "\n";
   EXPECT_GT(worstFirst, kTolerance);
   EXPECT_GT(beyondFirst, std::size_t(0.1 * 128 * 128));
+}
+
+TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const std::string common = "--scene builtin:courtyard --res 128x128 --frames 1 --validate ";
+  auto shot = [&](const std::string& method, const std::string& overlay) {
+    const std::string file = method + "_" + overlay + ".png";
+    const auto r = demo(common + "--method " + method + " --overlay " + overlay + " --screenshot " + path(file) +
+                            " --save-view " + path("view.json"),
+                        x.display());
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return readPng(dir_ / file);
+  };
+  // Pixels the overlay changed, and whether each change is toward its tint colour.
+  struct Changed {
+    std::size_t pixels = 0, wrongWay = 0;
+  };
+  auto changed = [](const Image& plain, const Image& marked, bool redder) {
+    Changed c;
+    for (std::size_t i = 0; i < plain.rgba.size(); i += 4) {
+      if (std::equal(&plain.rgba[i], &plain.rgba[i + 3], &marked.rgba[i])) continue;
+      ++c.pixels;
+      if (redder) c.wrongWay += marked.rgba[i] < plain.rgba[i] || marked.rgba[i + 1] > plain.rgba[i + 1] ||
+                                marked.rgba[i + 2] > plain.rgba[i + 2];
+    }
+    return c;
+  };
+  const Image plain = shot("srt", "none"), pip = shot("srt", "pip"), thin = shot("srt", "thin");
+  ASSERT_EQ(plain.width, 128);
+  // The CLI's srt on the same view says how many pixels it traced.
+  const auto cli = run("render --view " + path("view.json") + " --method srt --out " + path("cli"));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  std::ifstream statsFile(dir_ / "cli" / "srt.stats.json");
+  const std::size_t traced = nlohmann::json::parse(statsFile).at("pip_pixels").get<std::size_t>();
+  const Changed red = changed(plain, pip, true), cyan = changed(plain, thin, false);
+  std::cout << "srt traced " << traced << " pixels; the PIP overlay changed " << red.pixels << ", the thin one "
+            << cyan.pixels << "\n";
+  EXPECT_GT(traced, 0u);
+  EXPECT_EQ(red.pixels, traced);  // every traced pixel, and only those
+  EXPECT_EQ(red.wrongWay, 0u);    // each toward red
+  EXPECT_GT(cyan.pixels, 0u);     // the courtyard's wires and fence bars are thin in the light's map
+  EXPECT_LT(cyan.pixels, red.pixels);
+  // Switching to sm, which classifies nothing, leaves nothing to mark.
+  const Changed none = changed(shot("sm", "none"), shot("sm", "pip"), true);
+  EXPECT_EQ(none.pixels, 0u);
 }
 
 TEST_F(DemoTest, MemoryStaysFlatOver2000Frames) {
