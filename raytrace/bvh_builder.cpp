@@ -225,6 +225,22 @@ BvhBuilder::BvhBuilder(const BvhBuildSettings& settings) : settings_(settings), 
 
 BvhBuilder::~BvhBuilder() = default;
 
+void triangleVertices(const Scene& scene, const Mesh& mesh, std::size_t t, glm::vec3 (&v)[3], float& extent) {
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t index = mesh.indices[3 * t + k];
+    if (index >= mesh.positions.size()) {
+      throw InputError("BVH: mesh '" + mesh.name + "' of scene '" + scene.name + "' has vertex index " +
+                       std::to_string(index) + " out of range (" + std::to_string(mesh.positions.size()) +
+                       " vertices); load scenes through loadScene, which cleans them");
+    }
+    v[k] = mesh.positions[index];
+    if (!std::isfinite(v[k].x) || !std::isfinite(v[k].y) || !std::isfinite(v[k].z)) {
+      throw InputError("BVH: mesh '" + mesh.name + "' of scene '" + scene.name + "' has a non-finite vertex");
+    }
+    extent = std::max({extent, std::abs(v[k].x), std::abs(v[k].y), std::abs(v[k].z)});
+  }
+}
+
 Bvh BvhBuilder::build(const Scene& scene, MeshSet set) const {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t sceneTotal = scene.triangleCount();
@@ -253,19 +269,7 @@ Bvh BvhBuilder::build(const Scene& scene, MeshSet set) const {
     if (!inMeshSet(mesh, set)) continue;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       glm::vec3 v[3];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t index = mesh.indices[3 * t + k];
-        if (index >= mesh.positions.size()) {
-          throw InputError("BVH: mesh '" + mesh.name + "' of scene '" + scene.name + "' has vertex index " +
-                           std::to_string(index) + " out of range (" + std::to_string(mesh.positions.size()) +
-                           " vertices); load scenes through loadScene, which cleans them");
-        }
-        v[k] = mesh.positions[index];
-        if (!std::isfinite(v[k].x) || !std::isfinite(v[k].y) || !std::isfinite(v[k].z)) {
-          throw InputError("BVH: mesh '" + mesh.name + "' of scene '" + scene.name + "' has a non-finite vertex");
-        }
-        extent = std::max({extent, std::abs(v[k].x), std::abs(v[k].y), std::abs(v[k].z)});
-      }
+      triangleVertices(scene, mesh, t, v, extent);
       // The builder sees positions in `source` (primID); the triangle keeps its scene-wide id.
       const auto primId = std::uint32_t(source.size());
       source.push_back({v[0], meshFirst + std::uint32_t(t), v[1], 0u, v[2], 0u});

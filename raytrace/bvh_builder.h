@@ -50,6 +50,11 @@ struct BvhStats {
 // An empty selection (no triangles in the MeshSet) is one root whose only leaf holds one
 // degenerate triangle (all three vertices one point, id BVH_NO_HIT) that no ray can hit: the
 // traversal then needs no special case, whatever the ray's extent. Its stats count 0 triangles.
+// The vertices of triangle t of `mesh`, for building and refitting alike; InputError naming the
+// mesh and scene for an out-of-range index or a non-finite vertex. `extent` grows to the largest
+// coordinate magnitude (the scale of rounding errors, which sets the boxes' padding).
+void triangleVertices(const Scene& scene, const Mesh& mesh, std::size_t t, glm::vec3 (&v)[3], float& extent);
+
 struct Bvh {
   std::vector<shared::BvhNode> nodes;  // nodes[0] is the root
   std::vector<shared::BvhTriangle> triangles;

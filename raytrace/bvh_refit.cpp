@@ -52,20 +52,7 @@ void refitBvh(Bvh& bvh, const Scene& scene) {
     const Mesh& mesh = scene.meshes[m];
     const std::size_t t = tri.id - firstIds[m];
     glm::vec3 v[3];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t index = mesh.indices[3 * t + k];
-      if (index >= mesh.positions.size()) {
-        throw InputError("BVH refit: mesh '" + mesh.name + "' of scene '" + scene.name + "' has vertex index " +
-                         std::to_string(index) + " out of range (" + std::to_string(mesh.positions.size()) +
-                         " vertices)");
-      }
-      v[k] = mesh.positions[index];
-      if (!std::isfinite(v[k].x) || !std::isfinite(v[k].y) || !std::isfinite(v[k].z)) {
-        throw InputError("BVH refit: mesh '" + mesh.name + "' of scene '" + scene.name +
-                         "' was moved to a non-finite vertex");
-      }
-      extent = std::max({extent, std::abs(v[k].x), std::abs(v[k].y), std::abs(v[k].z)});
-    }
+    triangleVertices(scene, mesh, t, v, extent);
     tri.v0 = v[0];
     tri.v1 = v[1];
     tri.v2 = v[2];
