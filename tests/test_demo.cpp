@@ -22,17 +22,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
-
 #include "apps/demo/camera_controller.h"
 #include "apps/demo/demo_script.h"
 #include "cli_fixture.h"
+#include "png_check.h"
 #include "core/view.h"
 
 namespace fs = std::filesystem;
@@ -191,20 +184,8 @@ class Xvfb {
   std::string display_, error_;
 };
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba;
-};
-
-Image readPng(const fs::path& path) {
-  Image image;
-  int channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &image.width, &image.height, &channels, 4);
-  if (!data) return {};
-  image.rgba.assign(data, data + std::size_t(image.width) * image.height * 4);
-  stbi_image_free(data);
-  return image;
-}
+using test::Image;
+using test::readPng;
 
 // Largest per-channel difference (RGB) and how many pixels differ by more than `tolerance`.
 std::pair<int, std::size_t> compareImages(const Image& a, const Image& b, int tolerance) {
@@ -267,14 +248,9 @@ TEST_F(DemoTest, ScriptedSrtMatchesTheCliRenderOfTheSavedView) {
 
   // Not blank: the shaded courtyard has hundreds of colours at 128x128 (a blank or one-colour
   // frame has a handful) and no single one covers 90% of the image.
-  std::map<std::uint32_t, std::size_t> counts;
-  for (std::size_t i = 0; i < shot.rgba.size(); i += 4) {
-    ++counts[std::uint32_t(shot.rgba[i]) << 16 | std::uint32_t(shot.rgba[i + 1]) << 8 | shot.rgba[i + 2]];
-  }
-  std::size_t top = 0;
-  for (const auto& [colour, n] : counts) top = std::max(top, n);
-  EXPECT_GT(counts.size(), 200u);
-  EXPECT_LT(double(top), 0.9 * 128 * 128);
+  const auto [colours, top] = test::colourSpread(shot);
+  EXPECT_GT(colours, 200u);
+  EXPECT_LT(top, 0.9);
 
   // One row per frame; the moving light and camera change the visibility every frame.
   const auto rows = readCsv(dir_ / "frames.csv");

@@ -16,14 +16,7 @@
 
 #include "core/image_io.h"
 
-// Static so this copy cannot clash with other test files or libstb.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
+#include "png_check.h"
 
 namespace penumbra {
 namespace {

@@ -17,16 +17,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
-
 #include "apps/tune_command.h"
 #include "cli_fixture.h"
+#include "png_check.h"
 
 namespace fs = std::filesystem;
 using penumbra::chooseCheapest;
@@ -36,30 +29,9 @@ namespace {
 using penumbra::test::slurp;
 using Result = penumbra::test::CliResult;
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::uint32_t> pixels;  // RGBA packed
-};
-
-Image readPng(const fs::path& path) {
-  Image image;
-  int channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &image.width, &image.height, &channels, 4);
-  if (!data) return image;
-  image.pixels.resize(std::size_t(image.width) * image.height);
-  std::memcpy(image.pixels.data(), data, image.pixels.size() * 4);
-  stbi_image_free(data);
-  return image;
-}
-
-// Distinct colours and the share of the most common one: a blank page is one colour.
-std::pair<std::size_t, double> colourSpread(const Image& image) {
-  std::map<std::uint32_t, std::size_t> counts;
-  for (std::uint32_t p : image.pixels) ++counts[p];
-  std::size_t top = 0;
-  for (const auto& [colour, n] : counts) top = std::max(top, n);
-  return {counts.size(), image.pixels.empty() ? 1.0 : double(top) / double(image.pixels.size())};
-}
+using penumbra::test::colourSpread;
+using penumbra::test::Image;
+using penumbra::test::readPng;
 
 // Every src='...' / src="..." of the page.
 std::vector<std::string> imageSources(const std::string& html) {
