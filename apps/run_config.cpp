@@ -88,8 +88,10 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
-  app.add_option("--tracer", c.tracer, "Ray tracer of srt and frt: bvh (GPU compute), embree (CPU) or ls (line space, GPU)")
-      ->capture_default_str()->check(CLI::IsMember({"bvh", "embree", "ls"}));
+  app.add_option("--tracer", c.tracer,
+                 "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
+                 "structures), embree (CPU), ls (line space, GPU), or auto (rq on a GPU that has ray queries, else bvh)")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "bvh", "rq", "embree", "ls"}));
   app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
   app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
   app.add_option("--linespace-budget", c.linespaceBudgetMb,

@@ -31,7 +31,7 @@ struct RunConfig {
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file
   bool noReport = false;     // compare: skip report.html (report.py and matplotlib)
-  std::string tracer = "bvh";
+  std::string tracer = "auto";
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
   float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored

@@ -1,6 +1,9 @@
 #include "gpu/context.h"
 
+#include "core/scene.h"
+
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <stdexcept>
 
@@ -94,15 +97,42 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
   queueFamily_ = std::uint32_t(family - families.begin());
   timestampPeriodNs_ = physical_.getProperties().limits.timestampPeriod;
 
+  // Features of an extension may only be queried where the device has it.
+  const char* noRayQuery = std::getenv("PENUMBRA_NO_RAY_QUERY");
+  rayQueryTurnedOff_ = noRayQuery && std::string(noRayQuery) == "1";
+  rayQuery_ = !rayQueryTurnedOff_ &&
+              hasDeviceExtension(physical_, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME) &&
+              hasDeviceExtension(physical_, VK_KHR_RAY_QUERY_EXTENSION_NAME) &&
+              hasDeviceExtension(physical_, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME);
+  if (rayQuery_) {
+    const auto rt = physical_.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features,
+                                           vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
+                                           vk::PhysicalDeviceRayQueryFeaturesKHR>();
+    rayQuery_ = rt.get<vk::PhysicalDeviceVulkan12Features>().bufferDeviceAddress &&
+                rt.get<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>().accelerationStructure &&
+                rt.get<vk::PhysicalDeviceRayQueryFeaturesKHR>().rayQuery;
+  }
+
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily_, .queueCount = 1, .pQueuePriorities = &priority};
   const auto supported = physical_.getFeatures();
-  vk::PhysicalDeviceVulkan13Features features13{.synchronization2 = VK_TRUE, .dynamicRendering = VK_TRUE};
-  vk::PhysicalDeviceVulkan12Features features12{.pNext = &features13, .hostQueryReset = VK_TRUE};
+  vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.rayQuery = VK_TRUE};
+  vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.pNext = &rayQueryFeatures,
+                                                                          .accelerationStructure = VK_TRUE};
+  vk::PhysicalDeviceVulkan13Features features13{.pNext = rayQuery_ ? &accelerationFeatures : nullptr,
+                                                .synchronization2 = VK_TRUE,
+                                                .dynamicRendering = VK_TRUE};
+  vk::PhysicalDeviceVulkan12Features features12{
+      .pNext = &features13, .hostQueryReset = VK_TRUE, .bufferDeviceAddress = rayQuery_ ? VK_TRUE : VK_FALSE};
   vk::PhysicalDeviceFeatures2 features{
       .pNext = &features12,
       .features = {.geometryShader = supported.geometryShader, .fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics}};
-  const std::vector<const char*> deviceExtensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  std::vector<const char*> deviceExtensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  if (rayQuery_) {
+    for (const char* e : {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME, VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                          VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME})
+      deviceExtensions.push_back(e);
+  }
   device_ = vk::raii::Device(physical_, vk::DeviceCreateInfo{.pNext = &features,
                                                             .queueCreateInfoCount = 1,
                                                             .pQueueCreateInfos = &queueInfo,
@@ -170,6 +200,15 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onMessage(VkDebugUtilsMessageSeverityFla
   }
   if (context->printMessages_) std::cerr << "vulkan validation: " << text << "\n";
   return VK_FALSE;
+}
+
+void Context::requireRayQuery(const std::string& user) const {
+  if (rayQuery_) return;
+  throw InputError(user + ": " + deviceName() + " (" + driverInfo() + ") " +
+                           (rayQueryTurnedOff_ ? "has ray queries turned off by PENUMBRA_NO_RAY_QUERY=1"
+                                                           : "lacks VK_KHR_ray_query / VK_KHR_acceleration_structure") +
+                           "; lavapipe has them from Mesa 25 (scripts/setup.sh installs it from bookworm-backports), or use "
+                           "--tracer bvh");
 }
 
 void Context::requireSubgroupArithmetic(const std::string& user) const {

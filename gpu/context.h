@@ -31,6 +31,13 @@ class Context {
   void requireSubgroupArithmetic(const std::string& user) const;
   std::string driverInfo() const;  // driver name and version, for benchmark rows
   bool validationEnabled() const { return validate_; }
+  // Inline ray queries on driver-built acceleration structures (VK_KHR_acceleration_structure +
+  // VK_KHR_ray_query, buffer device addresses): enabled when the device has them, unless the
+  // environment sets PENUMBRA_NO_RAY_QUERY=1 (to run the fallbacks on a device that has them).
+  bool rayQuery() const { return rayQuery_; }
+  // Throws InputError (an option this device cannot honour) naming `user` and the driver when
+  // rayQuery() is false.
+  void requireRayQuery(const std::string& user) const;
   float timestampPeriodNs() const { return timestampPeriodNs_; }
 
   // Records with `record`, submits and waits; the one way passes reach the queue.
@@ -56,6 +63,8 @@ class Context {
   bool validate_ = false;
   bool printMessages_ = true;
   bool debugUtils_ = false;
+  bool rayQuery_ = false;
+  bool rayQueryTurnedOff_ = false;  // by PENUMBRA_NO_RAY_QUERY=1
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;
   vk::raii::Context context_;

@@ -44,6 +44,16 @@ Descriptors& Descriptors::buffer(std::uint32_t binding, const Buffer& buffer) {
   return *this;
 }
 
+Descriptors& Descriptors::accelerationStructure(std::uint32_t binding, vk::AccelerationStructureKHR structure) {
+  structureHandles_.push_back(structure);
+  structures_.push_back({.accelerationStructureCount = 1, .pAccelerationStructures = &structureHandles_.back()});
+  writes_.push_back({.pNext = &structures_.back(),
+                     .dstBinding = binding,
+                     .descriptorCount = 1,
+                     .descriptorType = vk::DescriptorType::eAccelerationStructureKHR});
+  return *this;
+}
+
 Descriptors& Descriptors::storageImage(std::uint32_t binding, vk::ImageView view) {
   images_.push_back({.imageView = view, .imageLayout = vk::ImageLayout::eGeneral});
   writes_.push_back({.dstBinding = binding, .descriptorCount = 1, .descriptorType = vk::DescriptorType::eStorageImage,

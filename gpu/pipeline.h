@@ -38,10 +38,13 @@ class Descriptors {
   Descriptors& storageImage(std::uint32_t binding, vk::ImageView view);
   Descriptors& sampledImage(std::uint32_t binding, vk::ImageView view, vk::Sampler sampler,
                             vk::ImageLayout layout = vk::ImageLayout::eShaderReadOnlyOptimal);
+  Descriptors& accelerationStructure(std::uint32_t binding, vk::AccelerationStructureKHR structure);
   void push(const vk::raii::CommandBuffer& cmd, vk::PipelineBindPoint point, const PipelineLayout& layout) const;
 
  private:
   std::deque<vk::DescriptorBufferInfo> buffers_;
+  std::deque<vk::AccelerationStructureKHR> structureHandles_;
+  std::deque<vk::WriteDescriptorSetAccelerationStructureKHR> structures_;
   std::deque<vk::DescriptorImageInfo> images_;
   std::vector<vk::WriteDescriptorSet> writes_;
 };

@@ -5,17 +5,24 @@
 namespace penumbra::gpu {
 
 Buffer::Buffer(const Context& context, vk::DeviceSize size, vk::BufferUsageFlags usage, const std::string& name)
-    : size_(std::max<vk::DeviceSize>(size, 16)),
+    : context_(&context),
+      size_(std::max<vk::DeviceSize>(size, 16)),
       buffer_(context.device(), vk::BufferCreateInfo{.size = size_, .usage = usage}) {
   const auto requirements = buffer_.getMemoryRequirements();
+  const vk::MemoryAllocateFlagsInfo addressable{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
   memory_ = vk::raii::DeviceMemory(
       context.device(),
-      {.allocationSize = requirements.size,
+      {.pNext = (usage & vk::BufferUsageFlagBits::eShaderDeviceAddress) ? &addressable : nullptr,
+       .allocationSize = requirements.size,
        .memoryTypeIndex = context.memoryType(requirements.memoryTypeBits, vk::MemoryPropertyFlagBits::eHostVisible |
                                                                               vk::MemoryPropertyFlagBits::eHostCoherent)});
   buffer_.bindMemory(*memory_, 0);
   mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
   context.name(*buffer_, name);
+}
+
+vk::DeviceAddress Buffer::address() const {
+  return context_->device().getBufferAddress({.buffer = *buffer_});
 }
 
 void Buffer::checkFits(std::size_t bytes) const {

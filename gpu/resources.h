@@ -17,6 +17,8 @@ class Buffer {
  public:
   Buffer(const Context& context, vk::DeviceSize size, vk::BufferUsageFlags usage, const std::string& name);
   vk::Buffer handle() const { return *buffer_; }
+  // Buffers made with eShaderDeviceAddress usage (acceleration-structure inputs and storage).
+  vk::DeviceAddress address() const;
   vk::DeviceSize size() const { return size_; }
   void* data() const { return mapped_; }
 
@@ -35,6 +37,7 @@ class Buffer {
 
  private:
   void checkFits(std::size_t bytes) const;
+  const Context* context_;
   vk::DeviceSize size_;
   vk::raii::Buffer buffer_;
   vk::raii::DeviceMemory memory_{nullptr};

@@ -46,8 +46,17 @@ const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   return *embree_;
 }
 
+std::string Renderer::resolveTracer(const gpu::Context& context, const std::string& name) {
+  if (name != "auto") return name;
+  // Ray queries where a GPU runs them (its ray-tracing hardware); on a CPU device (lavapipe) the
+  // compute BVH traces more rays/s than the driver's acceleration structures
+  // (bench/results/tracers.md), so it stays the default there.
+  const bool cpu = context.physicalDevice().getProperties().deviceType == vk::PhysicalDeviceType::eCpu;
+  return context.rayQuery() && !cpu ? "rq" : "bvh";
+}
+
 ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
-  const std::string& tracer = name.empty() ? settings_.tracer : name;
+  const std::string tracer = resolveTracer(context_, name.empty() ? settings_.tracer : name);
   if (tracer == "embree") return const_cast<EmbreeTracer&>(embree(stats));
   if (tracer == "ls") {
     if (!lineSpace_) lineSpace_ = std::make_unique<LineSpaceTracer>(context_, scene_, settings_.lineSpace);
@@ -63,7 +72,19 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
     stats.notes.push_back(note);
     return *lineSpace_;
   }
-  if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "'; use bvh, embree or ls");
+  if (tracer == "rq") {
+    if (!rayQuery_) rayQuery_ = std::make_unique<RayQueryTracer>(context_, scene_);
+    const AccelerationStats& as = rayQuery_->stats();
+    stats.setupMs["rq_build"] = as.buildMs;
+    stats.memoryBytes["acceleration_structures"] = as.bytes;
+    char note[200];
+    std::snprintf(note, sizeof(note),
+                  "ray queries: %u bottom-level structures, %.1f MB (static ones compacted from %.1f MB), build %.0f ms",
+                  as.bottomLevels, double(as.bytes) / 1e6, double(as.uncompactedBytes) / 1e6, as.buildMs);
+    stats.notes.push_back(note);
+    return *rayQuery_;
+  }
+  if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "'; use auto, bvh, rq, embree or ls");
   if (!bvh_) bvh_ = std::make_unique<BvhTracer>(context_, scene_);
   stats.setupMs["bvh_build"] = bvh_->stats().buildMs;
   stats.memoryBytes["bvh"] = bvh_->stats().bytes;
@@ -77,6 +98,7 @@ void Renderer::sceneMoved() {
   // else the line space's (both hold the same tree over the same triangles).
   std::optional<BvhRefitReport> traced;
   if (lineSpace_) traced = lineSpace_->update(scene_);
+  if (rayQuery_) traced = rayQuery_->update(scene_);
   if (bvh_) traced = bvh_->update(scene_);
   refit_.reset();
   if (traced) {

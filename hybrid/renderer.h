@@ -23,6 +23,7 @@
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/embree_tracer.h"
 #include "raytrace/linespace_tracer.h"
+#include "raytrace/ray_query_tracer.h"
 #include "shared/frame.h"
 
 namespace penumbra {
@@ -38,7 +39,9 @@ struct RenderSettings {
   std::uint32_t pcfFilter = FILTER_PCF3;  // kernel of `pcf`: FILTER_PCF3, FILTER_PCF5, FILTER_POISSON
   std::uint32_t msmMaps = 4;         // `msm`: shadow maps from this many light samples, averaged
   float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
-  std::string tracer = "bvh";        // ray tracer of srt and frt: "bvh" (GPU), "embree" (CPU) or "ls" (line space)
+  // Ray tracer of srt and frt: "bvh" (GPU compute), "rq" (GPU ray queries), "embree" (CPU), "ls"
+  // (line space), or "auto" (resolveTracer).
+  std::string tracer = "auto";
   LineSpaceSettings lineSpace;       // tracer "ls" and method ls: N, depth, memory budget
   raster::PipSettings pip;
   raster::ThinTriangleSettings thin;
@@ -83,6 +86,9 @@ class Renderer {
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
   const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
+  // The tracer "auto" stands for on this device: rq on a GPU with ray queries, else bvh; other
+  // names stay.
+  static std::string resolveTracer(const gpu::Context& context, const std::string& name);
   // settings().tracer (or `name` when given), built on first use
   ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
   TraceJob traceJob() const;                       // the compacted points and where results go
@@ -119,6 +125,7 @@ class Renderer {
   std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
   std::unique_ptr<EmbreeTracer> embree_;
   std::unique_ptr<BvhTracer> bvh_;
+  std::unique_ptr<RayQueryTracer> rayQuery_;
   std::unique_ptr<LineSpaceTracer> lineSpace_;
   gpu::Buffer frameBuffer_, visibility_, color_;
   gpu::Buffer smVisibility_, traceFlags_, rayMax_;

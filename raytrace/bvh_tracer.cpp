@@ -30,7 +30,6 @@ constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType
                                           {3, vk::DescriptorType::eStorageBuffer},
                                           {4, vk::DescriptorType::eStorageBuffer}};
 
-constexpr std::size_t kRaysPerSubmit = std::size_t(1) << 20;  // traceRays staging: 32 MiB in, 16 MiB out
 constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_t);
 
 std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
@@ -89,7 +88,8 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
                 "bvh counters"),
       raysCounters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer, "bvh ray counters"),
       tracePipeline_(context, bvh_trace_comp, kTraceBindings, sizeof(shared::BvhTracePush), "bvh trace pipeline"),
-      raysPipeline_(context, bvh_rays_comp, kRaysBindings, sizeof(shared::BvhRaysPush), "bvh rays pipeline") {
+      raysPipeline_(context, bvh_rays_comp, kRaysBindings, sizeof(shared::BvhRaysPush), "bvh rays pipeline"),
+      rayBatches_(context, "bvh") {
   // The static tree is written once, here; update() only ever writes after it.
   std::memcpy(nodes_.data(), bvh.nodes.data(), bvh.nodes.size() * sizeof(shared::BvhNode));
   std::memcpy(triangles_.data(), bvh.triangles.data(), bvh.triangles.size() * sizeof(shared::BvhTriangle));
@@ -146,39 +146,18 @@ TraceReport BvhTracer::readCounters(const gpu::Buffer& counters) {
 }
 
 std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuery> rays, bool anyHit) {
-  std::vector<shared::RayHit> out(rays.size());
   std::memset(raysCounters_.data(), 0, kCounterBytes);  // no GPU work is in flight between submissions
-  const std::size_t batchCapacity = std::min(rays.size(), kRaysPerSubmit);
-  if (batchCapacity > 0 && (!queries_ || queries_->size() < batchCapacity * sizeof(shared::RayQuery))) {
-    queries_.emplace(context_, batchCapacity * sizeof(shared::RayQuery), vk::BufferUsageFlagBits::eStorageBuffer,
-                     "bvh ray queries");
-    hits_.emplace(context_, batchCapacity * sizeof(shared::RayHit), vk::BufferUsageFlagBits::eStorageBuffer,
-                  "bvh ray hits");
-  }
-  const std::uint32_t maxGroups =
-      std::min(context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0], 65535u);
-  for (std::size_t begin = 0; begin < rays.size(); begin += kRaysPerSubmit) {
-    const auto batch = rays.subspan(begin, std::min(kRaysPerSubmit, rays.size() - begin));
-    queries_->upload(batch);
-    context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-      raysPipeline_.bind(cmd, gpu::Descriptors{}
-                                  .buffer(BVH_BINDING_NODES, nodes_)
-                                  .buffer(BVH_BINDING_TRIANGLES, triangles_)
-                                  .buffer(BVH_BINDING_COUNTERS, raysCounters_)
-                                  .buffer(3, *queries_)
-                                  .buffer(4, *hits_));
-      // Dispatches write disjoint ranges, so they need no barriers between them.
-      const std::size_t perDispatch = std::size_t(maxGroups) * BVH_GROUP_SIZE;
-      for (std::size_t first = 0; first < batch.size(); first += perDispatch) {
-        const auto count = std::uint32_t(std::min(perDispatch, batch.size() - first));
-        raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{std::uint32_t(first), count, anyHit ? 1u : 0u, dynamicRoot_});
-        cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
-      }
-      gpu::computeToComputeAndHost(cmd);
-    });
-    const auto hits = hits_->download<shared::RayHit>(batch.size());
-    std::copy(hits.begin(), hits.end(), out.begin() + std::ptrdiff_t(begin));
-  }
+  auto out = rayBatches_.trace(rays, BVH_GROUP_SIZE, [&](const vk::raii::CommandBuffer& cmd, const gpu::Buffer& queries,
+                                                         const gpu::Buffer& hits, std::uint32_t first, std::uint32_t count) {
+    raysPipeline_.bind(cmd, gpu::Descriptors{}
+                                .buffer(BVH_BINDING_NODES, nodes_)
+                                .buffer(BVH_BINDING_TRIANGLES, triangles_)
+                                .buffer(BVH_BINDING_COUNTERS, raysCounters_)
+                                .buffer(3, queries)
+                                .buffer(4, hits));
+    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{first, count, anyHit ? 1u : 0u, dynamicRoot_});
+    cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
+  });
   raysReport_ = readCounters(raysCounters_);
   return out;
 }

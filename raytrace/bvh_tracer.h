@@ -12,6 +12,7 @@
 #include "gpu/pipeline.h"
 #include "raytrace/bvh_builder.h"
 #include "raytrace/bvh_refit.h"
+#include "raytrace/ray_batches.h"
 #include "raytrace/shadow_tracer.h"
 
 namespace penumbra {
@@ -52,10 +53,11 @@ class BvhTracer final : public ShadowTracer {
   std::vector<shared::RayHit> traceRays(std::span<const shared::RayQuery> rays, bool anyHit);
   // Rays, node visits and triangle tests of the last traceRays call.
   const TraceReport& lastRaysReport() const { return raysReport_; }
+  // Rays, node visits and triangle tests from a counter buffer of BVH_COUNTER_WORDS (shared/bvh.h).
+  static TraceReport readCounters(const gpu::Buffer& counters);
 
  private:
   BvhTracer(const gpu::Context& context, const Scene& scene, Bvh staticBvh, const BvhBuildSettings& settings);
-  static TraceReport readCounters(const gpu::Buffer& counters);
 
   const gpu::Context& context_;
   BvhStats stats_;
@@ -68,8 +70,7 @@ class BvhTracer final : public ShadowTracer {
   gpu::Buffer raysCounters_;  // the same for traceRays, so it never disturbs a recorded trace
   gpu::ComputePipeline tracePipeline_;
   gpu::ComputePipeline raysPipeline_;
-  std::optional<gpu::Buffer> queries_;  // traceRays staging, grown on demand
-  std::optional<gpu::Buffer> hits_;
+  RayBatches rayBatches_;  // traceRays staging
   TraceReport raysReport_;
 };
 

@@ -21,6 +21,7 @@
 #include "raytrace/bvh_refit.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/linespace_tracer.h"
+#include "raytrace/ray_query_tracer.h"
 #include "embree_rays.h"
 #include "render_fixture.h"
 #include "shared/trace.h"
@@ -100,7 +101,8 @@ struct Comparison {
 // compared relative to itself at 1e-6 (8 ulps), the float rounding of the t division alone.
 constexpr double kRelativeT = 1e-6;
 
-Comparison compareWithEmbree(BvhTracer& tracer, const Scene& scene, const std::vector<RayQuery>& rays) {
+template <class Tracer>  // BvhTracer or RayQueryTracer
+Comparison compareWithEmbree(Tracer& tracer, const Scene& scene, const std::vector<RayQuery>& rays) {
   const test::EmbreeRays embree(scene, validatedContext());
   const std::vector<RayHit> any = tracer.traceRays(rays, true);
   const std::vector<RayHit> closest = tracer.traceRays(rays, false);
@@ -423,6 +425,49 @@ TEST(DynamicBvh, LineSpaceTracesTheMovedSphereWithoutRebuilding) {
   EXPECT_EQ(tracer->stats().buildMs, statsBefore.buildMs);
   ASSERT_TRUE(ls.stats.refit.has_value());
   EXPECT_EQ(ls.stats.refit->rebuilds, 0u);
+  expectValidationSilent();
+}
+
+// ---- Ray queries: the moving meshes' acceleration structures ------------------------------------
+
+// The driver's structures follow the same moves: refit in place for a small move, rebuilt when the
+// refit would have grown the SAH past the limit (the DynamicBvh's decision), answering as Embree
+// does after each update, and not before it.
+TEST(DynamicBvh, RayQueryStructuresRefitAndRebuildAsTheBvhDoes) {
+  if (!validatedContext().rayQuery()) GTEST_SKIP() << validatedContext().driverInfo() << " has no ray queries";
+  Swarm swarm;
+  RayQueryTracer tracer(validatedContext(), swarm.scene);
+  EXPECT_EQ(tracer.stats().bottomLevels, 2u);
+  std::vector<int> place(Swarm::kSide * Swarm::kSide);
+  std::iota(place.begin(), place.end(), 0);
+  std::mt19937 rng(3);
+
+  swarm.move(place, {0.3f, 0.02f, -0.2f});
+  std::vector<RayQuery> rays;
+  addRaysThrough(swarm.bounds(), 4000, rng, rays);
+  const Comparison stale = compareWithEmbree(tracer, swarm.scene, rays);
+  EXPECT_GT(stale.anyDisagree, rays.size() / 50) << "the test must see structures that did not follow";
+  const BvhRefitReport small = tracer.update(swarm.scene);
+  std::printf("rq small move: growth %.3f, rebuilt %d, %.3f ms\n", small.growth, int(small.rebuilt), small.ms);
+  EXPECT_FALSE(small.rebuilt);
+  const Comparison refit = compareWithEmbree(tracer, swarm.scene, rays);
+  print("rq swarm, refit", refit);
+  EXPECT_EQ(refit.anyDisagree, 0u);
+  EXPECT_EQ(refit.closestDisagree, 0u);
+
+  std::shuffle(place.begin(), place.end(), rng);
+  swarm.move(place, {0.05f, 0.02f, -0.03f});
+  const BvhRefitReport big = tracer.update(swarm.scene);
+  std::printf("rq shuffled: growth %.2f, rebuilt %d, %.3f ms\n", big.growth, int(big.rebuilt), big.ms);
+  EXPECT_TRUE(big.rebuilt);
+  EXPECT_EQ(big.rebuilds, 1u);
+  rays.clear();
+  addRaysThrough(swarm.bounds(), 4000, rng, rays);
+  const Comparison rebuilt = compareWithEmbree(tracer, swarm.scene, rays);
+  print("rq swarm, rebuilt", rebuilt);
+  EXPECT_EQ(rebuilt.anyDisagree, 0u);
+  EXPECT_EQ(rebuilt.closestDisagree, 0u);
+  EXPECT_GT(rebuilt.hits, rays.size() / 10);
   expectValidationSilent();
 }
 

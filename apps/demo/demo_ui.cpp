@@ -11,7 +11,7 @@
 namespace penumbra::demo {
 namespace {
 
-constexpr std::array<const char*, 3> kTracers = {"bvh", "embree", "ls"};
+constexpr std::array<const char*, 5> kTracers = {"auto", "bvh", "rq", "embree", "ls"};
 constexpr std::array<int, 6> kSpp = {1, 4, 8, 16, 32, 64};
 constexpr std::array<int, 6> kMapRes = {256, 512, 1024, 2048, 4096, 8192};
 constexpr std::array<LightType, 5> kLightTypes = {LightType::Point, LightType::Spot, LightType::Directional,

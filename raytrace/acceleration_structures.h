@@ -1,0 +1,75 @@
+// Driver-built acceleration structures over a scene (VK_KHR_acceleration_structure), for the
+// ray-query tracer: one compacted bottom-level structure per static mesh, packed in one buffer;
+// one per moving mesh, built to allow updates; and a top-level structure over all of them
+// (identity instances: scene positions are world space, and instance i is mesh i's).
+// Moving meshes keep their triangle counts (core/scene.h); update() refits their structures in
+// place, or rebuilds them when refitting has degraded the tree: the decision is DynamicBvh's
+// (raytrace/bvh_refit.h), the SAH growth of the same refit on the project's own tree, since a
+// driver's refit keeps its topology in the same way and reports no cost of its own.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/scene.h"
+#include "gpu/resources.h"
+#include "raytrace/bvh_refit.h"
+
+namespace penumbra {
+
+struct AccelerationStats {
+  std::uint32_t bottomLevels = 0;     // one per mesh with triangles
+  std::uint64_t bytes = 0;            // structures as kept (static ones compacted) + instances
+  std::uint64_t uncompactedBytes = 0; // the static structures before compaction
+  std::uint64_t scratchBytes = 0;     // largest scratch a build needed (freed after building)
+  double buildMs = 0.0;               // everything, wall clock: uploads, builds, compaction, top level
+};
+
+class SceneAccelerationStructures {
+ public:
+  // Builds everything. Throws InputError for a scene without triangles, std::runtime_error when
+  // the device lacks ray queries (gpu::Context::requireRayQuery).
+  SceneAccelerationStructures(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
+  SceneAccelerationStructures(const SceneAccelerationStructures&) = delete;
+  SceneAccelerationStructures& operator=(const SceneAccelerationStructures&) = delete;
+
+  vk::AccelerationStructureKHR top() const { return *top_; }
+  const AccelerationStats& stats() const { return stats_; }
+  // First scene-order triangle id of each mesh, indexed like the instances (BvhTriangle::id of a
+  // hit = meshFirstTriangle[instance] + primitive index).
+  const gpu::Buffer& meshFirstTriangle() const { return firstTriangle_; }
+
+  // The moving meshes were posed anew: uploads their vertices, refits their structures (or
+  // rebuilds them, see above) and rebuilds the top level. A no-op without moving meshes. Call it
+  // between frames. ms counts everything, the decision's CPU refit included.
+  BvhRefitReport update(const Scene& scene);
+
+  // Orders this object's builds before compute shaders that trace the top level.
+  static void recordBuildToTrace(const vk::raii::CommandBuffer& cmd);
+
+ private:
+  struct Moving {  // one moving mesh's structure and the inputs it is refit from
+    std::size_t mesh;
+    std::uint32_t triangles;
+    gpu::Buffer vertices, indices, storage;
+    vk::raii::AccelerationStructureKHR structure{nullptr};
+  };
+  void buildStatic(const Scene& scene);
+  void buildMoving(const Scene& scene);
+  void buildTop(const vk::raii::CommandBuffer& cmd, bool update);
+  void recordMoving(const vk::raii::CommandBuffer& cmd, Moving& m, bool update);
+  vk::DeviceAddress scratch(vk::DeviceSize bytes);  // aligned address in a scratch buffer of at least `bytes`
+
+  const gpu::Context& context_;
+  AccelerationStats stats_;
+  DynamicBvh policy_;
+  std::vector<vk::DeviceAddress> instanceTargets_;  // per mesh: its structure's device address (0: no triangles)
+  std::optional<gpu::Buffer> staticStorage_;        // the compacted static structures, 256-byte aligned
+  std::vector<vk::raii::AccelerationStructureKHR> static_;
+  std::vector<Moving> moving_;
+  gpu::Buffer firstTriangle_;
+  std::optional<gpu::Buffer> instances_, topStorage_, scratch_;
+  vk::raii::AccelerationStructureKHR top_{nullptr};
+};
+
+}  // namespace penumbra

@@ -1,0 +1,30 @@
+#version 460
+// Shadow rays of the ray-query tracer: bvh_trace.comp with the occlusion test answered by the
+// driver's acceleration structures (rayQueryEXT, first hit ends the ray). Same samples, origins
+// and ray ends (shadow_rays.glsl); writes visibility[point.pixel] itself.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_ray_query : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "shared/trace.h"
+#include "shadow_rays.glsl"
+#include "rq_common.glsl"
+layout(local_size_x = TRACE_GROUP_SIZE) in;
+layout(std430, binding = 3) readonly buffer Points { ShadingPoint points[]; };
+layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+
+bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
+  return rqTrace(origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;
+}
+
+void main() {
+  uint index = gl_GlobalInvocationID.x;
+  uint rays = 0u;
+  if (index < traceCount.count) {
+    ShadingPoint point = points[index];
+    visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
+  }
+  rqAddRays(rays);
+}
