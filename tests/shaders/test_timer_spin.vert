@@ -1,0 +1,6 @@
+// Test-only (tests/test_gpu_timer.cpp): one triangle that covers the whole target.
+#version 450
+void main() {
+  const vec2 p = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
