@@ -39,7 +39,7 @@ const std::vector<AxisDef>& sweepAxes() {
        "Maps of srt's penumbra mask with area lights: 1 (centre), 5 (and corners)"},
       {"--spp", "--spp", "spp", {"srt", "frt", "ls", "bitmask"}, true, false,
        "Light samples per pixel with area lights, e.g. 4,16 (srt, frt, ls, bitmask)"},
-      {"--tracer", "--tracer", "", {"srt", "frt"}, false, false, "Ray tracers of srt and frt, e.g. bvh,embree"},
+      {"--tracer", "--tracer", "", {"srt", "frt"}, false, false, "Ray tracers of srt and frt, e.g. bvh,rq,embree"},
       {"--linespace-n", "--linespace-n", "N", {"srt", "frt", "ls"}, false, true,
        "Line-space subdivision N per level (with the line-space tracer), e.g. 4,6,8"},
       {"--linespace-depth", "--linespace-depth", "d", {"srt", "frt", "ls"}, false, true,

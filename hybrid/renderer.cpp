@@ -47,12 +47,7 @@ const EmbreeTracer& Renderer::embree(FrameStats& stats) {
 }
 
 std::string Renderer::resolveTracer(const gpu::Context& context, const std::string& name) {
-  if (name != "auto") return name;
-  // Ray queries where a GPU runs them (its ray-tracing hardware); on a CPU device (lavapipe) the
-  // compute BVH traces more rays/s than the driver's acceleration structures
-  // (bench/results/tracers.md), so it stays the default there.
-  const bool cpu = context.physicalDevice().getProperties().deviceType == vk::PhysicalDeviceType::eCpu;
-  return context.rayQuery() && !cpu ? "rq" : "bvh";
+  return name == "auto" ? defaultTracer(context) : name;
 }
 
 ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
@@ -70,6 +65,10 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
                   ls.n, ls.depth, (unsigned long long)ls.nodes, double(ls.bytes) / 1e6, ls.buildMs, ls.treeMs,
                   ls.lineSpaceMs, 100.0 * ls.filledFraction);
     stats.notes.push_back(note);
+    if (const SceneAccelerationStructures* moving = lineSpace_->movingStructures()) {
+      stats.memoryBytes["acceleration_structures"] = moving->stats().bytes;
+      stats.notes.push_back("line space: moving meshes traced with ray queries");
+    }
     return *lineSpace_;
   }
   if (tracer == "rq") {

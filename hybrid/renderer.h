@@ -86,8 +86,8 @@ class Renderer {
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
   const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
-  // The tracer "auto" stands for on this device: rq on a GPU with ray queries, else bvh; other
-  // names stay.
+  // The tracer "auto" stands for on this device (defaultTracer: rq on a GPU with ray queries, else
+  // bvh); other names stay.
   static std::string resolveTracer(const gpu::Context& context, const std::string& name);
   // settings().tracer (or `name` when given), built on first use
   ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});

@@ -24,6 +24,39 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 std::uint32_t triangles(const Mesh& mesh) { return std::uint32_t(mesh.indices.size() / 3); }
 
+// Spreads the low 10 bits of v to every third bit.
+std::uint32_t spreadBits(std::uint32_t v) {
+  v = (v * 0x00010001u) & 0xFF0000FFu;
+  v = (v * 0x00000101u) & 0x0F00F00Fu;
+  v = (v * 0x00000011u) & 0xC30C30C3u;
+  return (v * 0x00000005u) & 0x49249249u;
+}
+
+// The mesh's triangles sorted by the 30-bit Morton code of their centroids in the mesh's bounds.
+std::vector<std::uint32_t> spatialOrder(const Mesh& mesh) {
+  Bounds bounds;
+  for (const glm::vec3& p : mesh.positions) bounds.extend(p);
+  const glm::vec3 scale = 1023.0f / glm::max(bounds.hi - bounds.lo, glm::vec3(1e-30f));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(triangles(mesh));
+  for (std::uint32_t t = 0; t < keyed.size(); ++t) {
+    const glm::vec3 centroid =
+        (mesh.positions[mesh.indices[3 * t]] + mesh.positions[mesh.indices[3 * t + 1]] + mesh.positions[mesh.indices[3 * t + 2]]) / 3.0f;
+    const glm::uvec3 q(glm::clamp((centroid - bounds.lo) * scale, glm::vec3(0.0f), glm::vec3(1023.0f)));
+    keyed[t] = {(spreadBits(q.x) << 2) | (spreadBits(q.y) << 1) | spreadBits(q.z), t};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(keyed.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
+// The mesh's indices in `order`.
+void writeIndices(const Mesh& mesh, const std::vector<std::uint32_t>& order, std::uint32_t* out) {
+  for (std::uint32_t t : order) {
+    for (int k = 0; k < 3; ++k) *out++ = mesh.indices[3 * t + k];
+  }
+}
+
 // One mesh's triangles as build input: float3 positions, uint32 indices, opaque (shadow rays
 // take the first hit, and nothing here needs an any-hit decision).
 vk::AccelerationStructureGeometryKHR triangleGeometry(vk::DeviceAddress vertices, vk::DeviceAddress indices,
@@ -54,20 +87,24 @@ vk::AccelerationStructureBuildSizesInfoKHR buildSizes(const gpu::Context& contex
 
 }  // namespace
 
+std::string defaultTracer(const gpu::Context& context) {
+  const bool cpu = context.physicalDevice().getProperties().deviceType == vk::PhysicalDeviceType::eCpu;
+  return context.rayQuery() && !cpu ? "rq" : "bvh";
+}
+
 SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& context, const Scene& scene,
-                                                         const BvhBuildSettings& settings)
-    : context_((context.requireRayQuery("--tracer rq"), context)),
+                                                         const BvhBuildSettings& settings, MeshSet set)
+    : context_((context.requireRayQuery("ray queries"), context)),
       policy_(scene, settings),
       instanceTargets_(scene.meshes.size(), 0),
-      firstTriangle_(context, scene.meshes.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
-                     "rq mesh first triangle") {
-  if (scene.triangleCount() == 0) throw InputError("rq: scene '" + scene.name + "' has no triangles to trace");
+      order_(scene.meshes.size()) {
+  if (triangleCount(scene, set) == 0) throw InputError("rq: scene '" + scene.name + "' has no triangles to trace");
   const auto start = std::chrono::steady_clock::now();
-  buildStatic(scene);
-  buildMoving(scene);
-  // Instances in mesh order, skipping meshes without triangles; each knows its first triangle id.
+  buildStatic(scene, set);
+  buildMoving(scene, set);
+  // Instances in mesh order, skipping meshes without structures; then the ids of their triangles.
   std::vector<vk::AccelerationStructureInstanceKHR> instances;
-  std::vector<std::uint32_t> first;
+  std::vector<std::uint32_t> first, ids;
   std::uint32_t id = 0;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     if (instanceTargets_[m]) {
@@ -79,16 +116,22 @@ SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& con
                                                   vk::GeometryInstanceFlagBitsKHR::eForceOpaque);
       instance.accelerationStructureReference = instanceTargets_[m];
       instances.push_back(instance);
-      first.push_back(id);
+      first.push_back(std::uint32_t(ids.size()));
+      for (std::uint32_t t : order_[m]) ids.push_back(id + t);
     }
     id += triangles(scene.meshes[m]);
   }
-  firstTriangle_.upload(std::span<const std::uint32_t>(first));
+  for (std::uint32_t& offset : first) offset += std::uint32_t(first.size());
+  first.insert(first.end(), ids.begin(), ids.end());
+  order_ = {};
+  triangleIds_.emplace(context_, first.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
+                       "rq triangle ids");
+  triangleIds_->upload(std::span<const std::uint32_t>(first));
   instances_.emplace(context_, instances.size() * sizeof(vk::AccelerationStructureInstanceKHR), kInput, "rq instances");
   instances_->upload(std::span<const vk::AccelerationStructureInstanceKHR>(instances));
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { buildTop(cmd, false); });
   if (moving_.empty()) scratch_.reset();  // updates need it again; static scenes never do
-  stats_.bytes += instances_->size() + topStorage_->size();
+  stats_.bytes += instances_->size() + topStorage_->size() + triangleIds_->size();
   stats_.buildMs = msSince(start);
 }
 
@@ -104,11 +147,11 @@ vk::DeviceAddress SceneAccelerationStructures::scratch(vk::DeviceSize bytes) {
   return alignUp(scratch_->address(), alignment);
 }
 
-void SceneAccelerationStructures::buildStatic(const Scene& scene) {
+void SceneAccelerationStructures::buildStatic(const Scene& scene, MeshSet set) {
   std::vector<std::size_t> meshes;
   std::size_t vertexCount = 0, indexCount = 0;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-    if (scene.meshes[m].dynamic || triangles(scene.meshes[m]) == 0) continue;
+    if (scene.meshes[m].dynamic || !inMeshSet(scene.meshes[m], set) || triangles(scene.meshes[m]) == 0) continue;
     meshes.push_back(m);
     vertexCount += scene.meshes[m].positions.size();
     indexCount += scene.meshes[m].indices.size();
@@ -126,7 +169,8 @@ void SceneAccelerationStructures::buildStatic(const Scene& scene) {
   for (std::size_t m : meshes) {
     const Mesh& mesh = scene.meshes[m];
     std::memcpy(static_cast<glm::vec3*>(vertices.data()) + v, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
-    std::memcpy(static_cast<std::uint32_t*>(indices.data()) + i, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
+    order_[m] = spatialOrder(mesh);
+    writeIndices(mesh, order_[m], static_cast<std::uint32_t*>(indices.data()) + i);
     geometries.push_back(triangleGeometry(vertices.address() + v * sizeof(glm::vec3),
                                           indices.address() + i * sizeof(std::uint32_t), mesh.positions.size()));
     v += mesh.positions.size();
@@ -213,11 +257,11 @@ void SceneAccelerationStructures::recordMoving(const vk::raii::CommandBuffer& cm
   buildToBuild(cmd);
 }
 
-void SceneAccelerationStructures::buildMoving(const Scene& scene) {
+void SceneAccelerationStructures::buildMoving(const Scene& scene, MeshSet set) {
   vk::DeviceSize scratchBytes = 0;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    if (!mesh.dynamic || triangles(mesh) == 0) continue;
+    if (!mesh.dynamic || !inMeshSet(mesh, set) || triangles(mesh) == 0) continue;
     const vk::AccelerationStructureGeometryKHR geometry = triangleGeometry(0, 0, mesh.positions.size());
     const vk::AccelerationStructureBuildGeometryInfoKHR info{.type = vk::AccelerationStructureTypeKHR::eBottomLevel,
                                                              .flags = BuildFlags::ePreferFastTrace | BuildFlags::eAllowUpdate,
@@ -234,7 +278,8 @@ void SceneAccelerationStructures::buildMoving(const Scene& scene) {
                                                                   .size = sizes.accelerationStructureSize,
                                                                   .type = vk::AccelerationStructureTypeKHR::eBottomLevel});
     moving.vertices.upload(std::span<const glm::vec3>(mesh.positions));
-    moving.indices.upload(std::span<const std::uint32_t>(mesh.indices));
+    order_[m] = spatialOrder(mesh);
+    writeIndices(mesh, order_[m], static_cast<std::uint32_t*>(moving.indices.data()));
     instanceTargets_[m] = context_.device().getAccelerationStructureAddressKHR({.accelerationStructure = *moving.structure});
     stats_.bytes += moving.vertices.size() + moving.indices.size() + moving.storage.size();
   }

@@ -1,7 +1,10 @@
 // Driver-built acceleration structures over a scene (VK_KHR_acceleration_structure), for the
 // ray-query tracer: one compacted bottom-level structure per static mesh, packed in one buffer;
 // one per moving mesh, built to allow updates; and a top-level structure over all of them
-// (identity instances: scene positions are world space, and instance i is mesh i's).
+// (identity instances: scene positions are world space). Each mesh's triangles go to the driver in
+// Morton order of their centroids: Mesa 25.0's lavapipe builds trees whose quality follows the input
+// order (the Stanford Bunny in its file's order traced ~70x slower than sorted), and a builder that
+// sorts anyway loses nothing.
 // Moving meshes keep their triangle counts (core/scene.h); update() refits their structures in
 // place, or rebuilds them when refitting has degraded the tree: the decision is DynamicBvh's
 // (raytrace/bvh_refit.h), the SAH growth of the same refit on the project's own tree, since a
@@ -9,10 +12,12 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/scene.h"
 #include "gpu/resources.h"
+#include "raytrace/bvh_builder.h"
 #include "raytrace/bvh_refit.h"
 
 namespace penumbra {
@@ -25,19 +30,26 @@ struct AccelerationStats {
   double buildMs = 0.0;               // everything, wall clock: uploads, builds, compaction, top level
 };
 
+// The exact tracer "auto" stands for on this device: "rq" on a GPU with ray queries (its ray-tracing
+// hardware), "bvh" elsewhere: on a CPU device (lavapipe) the compute BVH traces more rays/s than the
+// driver's structures (bench/results/tracers.md).
+std::string defaultTracer(const gpu::Context& context);
+
 class SceneAccelerationStructures {
  public:
-  // Builds everything. Throws InputError for a scene without triangles, std::runtime_error when
-  // the device lacks ray queries (gpu::Context::requireRayQuery).
-  SceneAccelerationStructures(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
+  // Builds over the meshes in `set` (the line space traces its moving meshes with MeshSet::Dynamic).
+  // Throws InputError for a selection without triangles or a device without ray queries
+  // (gpu::Context::requireRayQuery).
+  SceneAccelerationStructures(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {},
+                              MeshSet set = MeshSet::All);
   SceneAccelerationStructures(const SceneAccelerationStructures&) = delete;
   SceneAccelerationStructures& operator=(const SceneAccelerationStructures&) = delete;
 
   vk::AccelerationStructureKHR top() const { return *top_; }
   const AccelerationStats& stats() const { return stats_; }
-  // First scene-order triangle id of each mesh, indexed like the instances (BvhTriangle::id of a
-  // hit = meshFirstTriangle[instance] + primitive index).
-  const gpu::Buffer& meshFirstTriangle() const { return firstTriangle_; }
+  // Scene-order triangle ids (BvhTriangle::id) of the build order: one uint per instance, where its
+  // ids start in this buffer, then the ids. A hit's id = ids[ids[instance] + primitive index].
+  const gpu::Buffer& triangleIds() const { return *triangleIds_; }
 
   // The moving meshes were posed anew: uploads their vertices, refits their structures (or
   // rebuilds them, see above) and rebuilds the top level. A no-op without moving meshes. Call it
@@ -54,8 +66,8 @@ class SceneAccelerationStructures {
     gpu::Buffer vertices, indices, storage;
     vk::raii::AccelerationStructureKHR structure{nullptr};
   };
-  void buildStatic(const Scene& scene);
-  void buildMoving(const Scene& scene);
+  void buildStatic(const Scene& scene, MeshSet set);
+  void buildMoving(const Scene& scene, MeshSet set);
   void buildTop(const vk::raii::CommandBuffer& cmd, bool update);
   void recordMoving(const vk::raii::CommandBuffer& cmd, Moving& m, bool update);
   vk::DeviceAddress scratch(vk::DeviceSize bytes);  // aligned address in a scratch buffer of at least `bytes`
@@ -67,7 +79,8 @@ class SceneAccelerationStructures {
   std::optional<gpu::Buffer> staticStorage_;        // the compacted static structures, 256-byte aligned
   std::vector<vk::raii::AccelerationStructureKHR> static_;
   std::vector<Moving> moving_;
-  gpu::Buffer firstTriangle_;
+  std::vector<std::vector<std::uint32_t>> order_;  // per mesh: its triangles in build order (while building)
+  std::optional<gpu::Buffer> triangleIds_;
   std::optional<gpu::Buffer> instances_, topStorage_, scratch_;
   vk::raii::AccelerationStructureKHR top_{nullptr};
 };

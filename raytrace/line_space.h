@@ -6,7 +6,6 @@
 // a parameter set that does not fit the budget is refused before any bit is computed.
 #pragma once
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include "raytrace/ntree_builder.h"
@@ -28,6 +27,9 @@ struct LineSpaceSettings {
   // of occluders that close (contact shadows). The ray itself is unchanged, so shadow edges stay
   // where they are. 0 = the paper's start-node rule alone.
   float startOffsetCells = 1.0f;
+  // How the moving meshes (not in the line space) are traced: on their own compute BVH, with ray
+  // queries on the driver's acceleration structures, or Auto: as defaultTracer says.
+  enum class Moving { Auto, Bvh, RayQuery } movingTracer = Moving::Auto;
 };
 
 struct LineSpaceStats {

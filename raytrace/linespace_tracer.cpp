@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "linespace_trace_comp.h"
+#include "linespace_trace_rq_comp.h"
 #include "shared/trace.h"
 
 namespace penumbra {
@@ -26,7 +27,26 @@ constexpr gpu::Binding kBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eSto
                                       {7, vk::DescriptorType::eStorageBuffer},
                                       {LS_BINDING_BVH_NODES, vk::DescriptorType::eStorageBuffer},
                                       {LS_BINDING_BVH_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
+// linespace_trace_rq.comp: the moving meshes' top level and triangle ids in the BVH's slots.
+constexpr gpu::Binding kRayQueryBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eStorageBuffer},
+                                              {LS_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
+                                              {LS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
+                                              {LS_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+                                              {4, vk::DescriptorType::eStorageBuffer},
+                                              {5, vk::DescriptorType::eStorageBuffer},
+                                              {6, vk::DescriptorType::eStorageBuffer},
+                                              {7, vk::DescriptorType::eStorageBuffer},
+                                              {LS_BINDING_BVH_NODES, vk::DescriptorType::eAccelerationStructureKHR},
+                                              {LS_BINDING_BVH_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
+
+// Whether the moving meshes are traced with ray queries (LineSpaceSettings::movingTracer).
+bool movingRayQueries(const gpu::Context& context, const LineSpaceSettings& settings, const DynamicBvh& dynamic) {
+  using Moving = LineSpaceSettings::Moving;
+  const bool rq = settings.movingTracer == Moving::Auto ? defaultTracer(context) == "rq"
+                                                       : settings.movingTracer == Moving::RayQuery;
+  return rq && !dynamic.empty();
+}
 
 constexpr std::uint32_t kDynamicRoot = 1;  // node 0 stays unused: inner index 0 marks an empty slot
 
@@ -79,7 +99,13 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
                 "ls dynamic bvh nodes"),
       bvhTriangles_(context, bvhTriangleBytes(dynamic_.triangleCount()), vk::BufferUsageFlagBits::eStorageBuffer,
                     "ls dynamic bvh triangles"),
-      pipeline_(context, linespace_trace_comp, kBindings, sizeof(shared::LsPush), "linespace trace pipeline") {
+      moving_(movingRayQueries(context, settings, dynamic_)
+                  ? std::make_unique<SceneAccelerationStructures>(context, scene, BvhBuildSettings{}, MeshSet::Dynamic)
+                  : nullptr),
+      pipeline_(moving_ ? gpu::ComputePipeline(context, linespace_trace_rq_comp, kRayQueryBindings, sizeof(shared::LsPush),
+                                               "linespace trace pipeline (moving meshes on ray queries)")
+                        : gpu::ComputePipeline(context, linespace_trace_comp, kBindings, sizeof(shared::LsPush),
+                                               "linespace trace pipeline")) {
   tree_.upload(std::span<const std::uint32_t>(ls.tree));
   nodes_.upload(std::span<const shared::LsNode>(ls.nodes));
   bits_.upload(std::span<const std::uint32_t>(ls.bits));
@@ -89,7 +115,9 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
   dynamic_.attach(bvhNodes_, bvhTriangles_, kDynamicRoot, 0);
 }
 
-BvhRefitReport LineSpaceTracer::update(const Scene& scene) { return dynamic_.update(scene); }
+BvhRefitReport LineSpaceTracer::update(const Scene& scene) {
+  return moving_ ? moving_->update(scene) : dynamic_.update(scene);
+}
 
 void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   // As BvhTracer::record: the compaction's writes (points, count, the indirect arguments) feed
@@ -101,17 +129,23 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
   cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
                 Access::eShaderStorageRead | Access::eShaderStorageWrite);
-  pipeline_.bind(cmd, gpu::Descriptors{}
-                          .buffer(LS_BINDING_TREE, tree_)
-                          .buffer(LS_BINDING_NODES, nodes_)
-                          .buffer(LS_BINDING_BITS, bits_)
-                          .buffer(LS_BINDING_COUNTERS, counters_)
-                          .buffer(4, job.points)
-                          .buffer(5, job.count)
-                          .buffer(6, job.frame)
-                          .buffer(7, job.visibility)
-                          .buffer(LS_BINDING_BVH_NODES, bvhNodes_)
-                          .buffer(LS_BINDING_BVH_TRIANGLES, bvhTriangles_));
+  gpu::Descriptors descriptors;
+  descriptors.buffer(LS_BINDING_TREE, tree_)
+      .buffer(LS_BINDING_NODES, nodes_)
+      .buffer(LS_BINDING_BITS, bits_)
+      .buffer(LS_BINDING_COUNTERS, counters_)
+      .buffer(4, job.points)
+      .buffer(5, job.count)
+      .buffer(6, job.frame)
+      .buffer(7, job.visibility);
+  if (moving_) {
+    SceneAccelerationStructures::recordBuildToTrace(cmd);
+    descriptors.accelerationStructure(LS_BINDING_BVH_NODES, moving_->top())
+        .buffer(LS_BINDING_BVH_TRIANGLES, moving_->triangleIds());
+  } else {
+    descriptors.buffer(LS_BINDING_BVH_NODES, bvhNodes_).buffer(LS_BINDING_BVH_TRIANGLES, bvhTriangles_);
+  }
+  pipeline_.bind(cmd, descriptors);
   pipeline_.pushConstants(cmd, push_);
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()

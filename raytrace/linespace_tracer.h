@@ -5,13 +5,16 @@
 // conservative (slightly too dark), except that the finest node holding the ray's start casts no
 // shadow on it (the paper's start-node skip).
 // Two-level for moving geometry: the line space covers the static meshes only (built once); the
-// dynamic meshes get their own BVH (DynamicBvh, refit or rebuilt by update()), which the same
-// kernel traces exactly for every ray the line space leaves unoccluded.
+// dynamic meshes get their own BVH (DynamicBvh, refit or rebuilt by update()), or with
+// LineSpaceSettings::movingTracer "rq" the driver's acceleration structures over them, which the
+// same kernel traces exactly for every ray the line space leaves unoccluded.
 #pragma once
+#include <memory>
 #include <string>
 
 #include "gpu/pipeline.h"
 #include "raytrace/bvh_refit.h"
+#include "raytrace/acceleration_structures.h"
 #include "raytrace/line_space.h"
 #include "raytrace/shadow_tracer.h"
 
@@ -32,6 +35,8 @@ class LineSpaceTracer final : public ShadowTracer {
 
   const LineSpaceStats& stats() const { return stats_; }
   const DynamicBvh& dynamicBvh() const { return dynamic_; }
+  // The moving meshes' acceleration structures when they are traced with ray queries, else null.
+  const SceneAccelerationStructures* movingStructures() const { return moving_.get(); }
 
   // The scene's dynamic meshes moved: refits (or rebuilds) their BVH and rewrites it; the line
   // space is not touched. A no-op without dynamic meshes; call it between frames.
@@ -51,6 +56,7 @@ class LineSpaceTracer final : public ShadowTracer {
   // The dynamic BVH: node 0 unused (index 0 marks an empty slot), its root at node 1.
   gpu::Buffer bvhNodes_;
   gpu::Buffer bvhTriangles_;
+  std::unique_ptr<SceneAccelerationStructures> moving_;  // movingTracer "rq": used instead of the BVH buffers
   gpu::ComputePipeline pipeline_;
 };
 

@@ -18,14 +18,14 @@ using Access = vk::AccessFlagBits2;
 using Type = vk::DescriptorType;
 
 constexpr gpu::Binding kTraceBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
-                                           {RQ_BINDING_FIRST_TRIANGLE, Type::eStorageBuffer},
+                                           {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
                                            {RQ_BINDING_COUNTERS, Type::eStorageBuffer},
                                            {3, Type::eStorageBuffer},
                                            {4, Type::eStorageBuffer},
                                            {5, Type::eStorageBuffer},
                                            {6, Type::eStorageBuffer}};
 constexpr gpu::Binding kRaysBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
-                                          {RQ_BINDING_FIRST_TRIANGLE, Type::eStorageBuffer},
+                                          {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
                                           {RQ_BINDING_COUNTERS, Type::eStorageBuffer},
                                           {3, Type::eStorageBuffer},
                                           {4, Type::eStorageBuffer}};
@@ -63,7 +63,7 @@ void RayQueryTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& 
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
   tracePipeline_.bind(cmd, gpu::Descriptors{}
                                .accelerationStructure(RQ_BINDING_SCENE, structures_.top())
-                               .buffer(RQ_BINDING_FIRST_TRIANGLE, structures_.meshFirstTriangle())
+                               .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
                                .buffer(RQ_BINDING_COUNTERS, counters_)
                                .buffer(3, job.points)
                                .buffer(4, job.count)
@@ -88,7 +88,7 @@ std::vector<shared::RayHit> RayQueryTracer::traceRays(std::span<const shared::Ra
     SceneAccelerationStructures::recordBuildToTrace(cmd);
     raysPipeline_.bind(cmd, gpu::Descriptors{}
                                 .accelerationStructure(RQ_BINDING_SCENE, structures_.top())
-                                .buffer(RQ_BINDING_FIRST_TRIANGLE, structures_.meshFirstTriangle())
+                                .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
                                 .buffer(RQ_BINDING_COUNTERS, raysCounters_)
                                 .buffer(3, queries)
                                 .buffer(4, hits));

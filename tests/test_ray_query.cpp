@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/animation.h"
 #include "core/metrics.h"
 #include "core/scene_loader.h"
 #include "embree_rays.h"
@@ -86,7 +87,9 @@ TEST(RayQueryTracer, RaysHitWhatTheBvhAndEmbreeHit) {
       const bool same = rqClosest[i].triangle == bvhClosest[i].triangle ||
                         (hit && std::abs(rqClosest[i].t - bvhClosest[i].t) <= 1e-6f * bvhClosest[i].t);
       closestDisagree += !same;
-      if (same && hit) EXPECT_NEAR(rqClosest[i].t, bvhClosest[i].t, 1e-5f * bvhClosest[i].t) << i;
+      if (same && hit) {
+        EXPECT_NEAR(rqClosest[i].t, bvhClosest[i].t, 1e-5f * bvhClosest[i].t) << i;
+      }
     }
     std::printf("%s: %zu rays, %zu hit; rq any-hit vs Embree differ %zu, closest vs bvh differ %zu\n", spec,
                 rays.size(), hits, anyDisagree, closestDisagree);
@@ -138,6 +141,33 @@ TEST(RayQueryTracer, FramesAreTheBvhFramesPixelForPixel) {
           << "frt traces the reference's rays";
     }
   }
+  expectValidationSilent();
+}
+
+// The line space's exact part, the moving meshes, on ray queries: the same frames as on their own
+// BVH, before and after the drone moved (both are exact; the line space itself is unchanged).
+TEST(RayQueryTracer, LineSpaceTracesItsMovingMeshesWithRayQueries) {
+  REQUIRE_RAY_QUERIES();
+  std::vector<Frame> frames[2];
+  for (int rq = 0; rq < 2; ++rq) {
+    RenderSettings settings = test::smallSettings(128, 1024);
+    settings.tracer = "ls";
+    settings.lineSpace.n = 4;
+    settings.lineSpace.depth = 2;
+    settings.lineSpace.movingTracer = rq ? LineSpaceSettings::Moving::RayQuery : LineSpaceSettings::Moving::Bvh;
+    SceneRun run("builtin:courtyard-moving:1", settings);
+    frames[rq].push_back(run.render("ls"));
+    poseScene(run.scene, 2.3);
+    run.renderer->sceneMoved();
+    frames[rq].push_back(run.render("ls"));
+    EXPECT_EQ(frames[rq].back().stats.memoryBytes.count("acceleration_structures"), std::size_t(rq));
+    ASSERT_TRUE(frames[rq].back().stats.refit.has_value());
+  }
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(frames[0][i].stats.raysTraced, frames[1][i].stats.raysTraced) << "frame " << i;
+    EXPECT_EQ(differingPixels(frames[0][i], frames[1][i]), 0u) << "frame " << i;
+  }
+  EXPECT_GT(differingPixels(frames[1][0], frames[1][1]), 0u) << "the drone's shadow moved";
   expectValidationSilent();
 }
 

@@ -1,0 +1,54 @@
+// Shadow rays of the line-space tracer, the body of linespace_trace.comp and
+// linespace_trace_rq.comp (not compiled on its own): one invocation per ShadingPoint of the
+// TraceJob, dispatched indirectly from TraceCount. The same samples, ray origins and ray ends as
+// bvh_trace.comp and EmbreeTracer::traceShadows (shadow_rays.glsl); only the occlusion test
+// differs (lsOccluded, an approximation that may only over-darken, apart from the skipped start
+// node). Writes visibility[point.pixel] itself.
+// Moving meshes are not in the line space; they are traced exactly in the same query, on their own
+// BVH, or with LS_MOVING_RAY_QUERY on the driver's acceleration structures over them.
+#include "shared/trace.h"
+#include "shadow_rays.glsl"
+#include "linespace_traverse.glsl"
+#ifdef LS_MOVING_RAY_QUERY
+#define RQ_BINDING_SCENE LS_BINDING_BVH_NODES
+#define RQ_BINDING_TRIANGLE_IDS LS_BINDING_BVH_TRIANGLES
+#define RQ_NO_COUNTERS
+#include "rq_common.glsl"
+bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
+  return rqTrace(origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;
+}
+#else
+#define BVH_BINDING_NODES LS_BINDING_BVH_NODES
+#define BVH_BINDING_TRIANGLES LS_BINDING_BVH_TRIANGLES
+#define BVH_NO_COUNTERS
+#include "bvh_traverse.glsl"
+bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
+  return bvhTraverse(lsPush.dynamicRoot, origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;
+}
+#endif
+layout(local_size_x = TRACE_GROUP_SIZE) in;
+layout(std430, binding = 4) readonly buffer Points { ShadingPoint points[]; };
+layout(std430, binding = 5) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 7) writeonly buffer Visibility { float visibility[]; };
+
+// The line space answers from where the ray is startOffset above the surface on (see LsPush); the
+// moving meshes' trace is exact, so it takes the whole segment, as bvh_trace.comp does.
+bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
+  float tStart = min(lsPush.startOffset / max(dot(dir, point.normal), 1e-3), tMax);
+  if (lsOccluded(origin, dir, tStart, tMax)) return true;
+  return lsPush.dynamicRoot != BVH_NO_TREE && movingOccluded(origin, dir, tMax);
+}
+
+void main() {
+  uint index = gl_GlobalInvocationID.x;
+  uint rays = 0u;
+  if (index < traceCount.count) {
+    ShadingPoint point = points[index];
+    visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
+  }
+#ifndef LS_MOVING_RAY_QUERY
+  lsNodeVisits += bvhNodeVisits;  // the dynamic BVH's visits count as traversal steps too
+#endif
+  lsAddCounters(rays);
+}

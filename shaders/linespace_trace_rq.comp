@@ -1,0 +1,9 @@
+#version 460
+// Shadow rays of the line-space tracer; moving meshes on the driver's acceleration structures
+// (linespace_trace.glsl), where the device has ray queries.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_ray_query : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#define LS_MOVING_RAY_QUERY
+#include "linespace_trace.glsl"
