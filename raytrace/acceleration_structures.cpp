@@ -136,10 +136,13 @@ SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& con
 }
 
 vk::DeviceAddress SceneAccelerationStructures::scratch(vk::DeviceSize bytes) {
-  const auto props = context_.physicalDevice()
-                         .getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceAccelerationStructurePropertiesKHR>()
-                         .get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
-  const vk::DeviceSize alignment = std::max<vk::DeviceSize>(props.minAccelerationStructureScratchOffsetAlignment, 1);
+  if (!scratchAlignment_) {  // asked once: update() calls this every frame
+    const auto props = context_.physicalDevice()
+                           .getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceAccelerationStructurePropertiesKHR>()
+                           .get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
+    scratchAlignment_ = std::max<vk::DeviceSize>(props.minAccelerationStructureScratchOffsetAlignment, 1);
+  }
+  const vk::DeviceSize alignment = scratchAlignment_;
   if (!scratch_ || scratch_->size() < bytes + alignment) {
     scratch_.emplace(context_, bytes + alignment, Usage::eStorageBuffer | Usage::eShaderDeviceAddress, "rq scratch");
     stats_.scratchBytes = std::max(stats_.scratchBytes, bytes);

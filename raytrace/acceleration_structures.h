@@ -82,6 +82,7 @@ class SceneAccelerationStructures {
   std::vector<std::vector<std::uint32_t>> order_;  // per mesh: its triangles in build order (while building)
   std::optional<gpu::Buffer> triangleIds_;
   std::optional<gpu::Buffer> instances_, topStorage_, scratch_;
+  vk::DeviceSize scratchAlignment_ = 0;  // minAccelerationStructureScratchOffsetAlignment, on first use
   vk::raii::AccelerationStructureKHR top_{nullptr};
 };
 

@@ -14,8 +14,6 @@
 namespace penumbra {
 namespace {
 
-using Stage = vk::PipelineStageFlagBits2;
-using Access = vk::AccessFlagBits2;
 
 constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
                                            {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
@@ -61,13 +59,6 @@ Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuild
   return bvh;
 }
 
-// Zeroes the counters on the GPU: earlier dispatches in the same command buffer may still add to them.
-void recordCounterReset(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& counters) {
-  cmd.fillBuffer(counters.handle(), 0, VK_WHOLE_SIZE, 0u);
-  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
-                Access::eShaderStorageRead | Access::eShaderStorageWrite);
-}
-
 }  // namespace
 
 BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings)
@@ -108,13 +99,7 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
 BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
-  // The compaction's compute writes (points, count) feed this dispatch, its indirect arguments
-  // included; earlier compute work may still use the counters and the visibility buffer.
-  gpu::memoryBarrier(
-      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
-      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
-      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
-  recordCounterReset(cmd, counters_);
+  recordTraceStart(cmd, counters_);
   tracePipeline_.bind(cmd, gpu::Descriptors{}
                                .buffer(BVH_BINDING_NODES, nodes_)
                                .buffer(BVH_BINDING_TRIANGLES, triangles_)

@@ -1,6 +1,7 @@
 #include "raytrace/linespace_tracer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -14,30 +15,22 @@
 namespace penumbra {
 namespace {
 
-using Stage = vk::PipelineStageFlagBits2;
-using Access = vk::AccessFlagBits2;
 
-constexpr gpu::Binding kBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eStorageBuffer},
-                                      {LS_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
-                                      {LS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
-                                      {LS_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer},
-                                      {5, vk::DescriptorType::eStorageBuffer},
-                                      {6, vk::DescriptorType::eStorageBuffer},
-                                      {7, vk::DescriptorType::eStorageBuffer},
-                                      {LS_BINDING_BVH_NODES, vk::DescriptorType::eStorageBuffer},
-                                      {LS_BINDING_BVH_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
-// linespace_trace_rq.comp: the moving meshes' top level and triangle ids in the BVH's slots.
-constexpr gpu::Binding kRayQueryBindings[] = {{LS_BINDING_TREE, vk::DescriptorType::eStorageBuffer},
-                                              {LS_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
-                                              {LS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
-                                              {LS_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
-                                              {4, vk::DescriptorType::eStorageBuffer},
-                                              {5, vk::DescriptorType::eStorageBuffer},
-                                              {6, vk::DescriptorType::eStorageBuffer},
-                                              {7, vk::DescriptorType::eStorageBuffer},
-                                              {LS_BINDING_BVH_NODES, vk::DescriptorType::eAccelerationStructureKHR},
-                                              {LS_BINDING_BVH_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
+// linespace_trace(.comp|_rq.comp): the moving meshes' BVH nodes and triangles, or their top level
+// and triangle ids (ray queries), in the last two slots.
+std::array<gpu::Binding, 10> bindings(bool rayQueries) {
+  const auto storage = vk::DescriptorType::eStorageBuffer;
+  return {{{LS_BINDING_TREE, storage},
+           {LS_BINDING_NODES, storage},
+           {LS_BINDING_BITS, storage},
+           {LS_BINDING_COUNTERS, storage},
+           {4, storage},
+           {5, storage},
+           {6, storage},
+           {7, storage},
+           {LS_BINDING_BVH_NODES, rayQueries ? vk::DescriptorType::eAccelerationStructureKHR : storage},
+           {LS_BINDING_BVH_TRIANGLES, storage}}};
+}
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
 
 // Whether the moving meshes are traced with ray queries (LineSpaceSettings::movingTracer).
@@ -102,10 +95,8 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
       moving_(movingRayQueries(context, settings, dynamic_)
                   ? std::make_unique<SceneAccelerationStructures>(context, scene, BvhBuildSettings{}, MeshSet::Dynamic)
                   : nullptr),
-      pipeline_(moving_ ? gpu::ComputePipeline(context, linespace_trace_rq_comp, kRayQueryBindings, sizeof(shared::LsPush),
-                                               "linespace trace pipeline (moving meshes on ray queries)")
-                        : gpu::ComputePipeline(context, linespace_trace_comp, kBindings, sizeof(shared::LsPush),
-                                               "linespace trace pipeline")) {
+      pipeline_(context, moving_ ? std::span<const std::uint32_t>(linespace_trace_rq_comp) : linespace_trace_comp,
+                bindings(moving_ != nullptr), sizeof(shared::LsPush), "linespace trace pipeline") {
   tree_.upload(std::span<const std::uint32_t>(ls.tree));
   nodes_.upload(std::span<const shared::LsNode>(ls.nodes));
   bits_.upload(std::span<const std::uint32_t>(ls.bits));
@@ -120,15 +111,7 @@ BvhRefitReport LineSpaceTracer::update(const Scene& scene) {
 }
 
 void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
-  // As BvhTracer::record: the compaction's writes (points, count, the indirect arguments) feed
-  // this dispatch; earlier compute work may still use the counters and the visibility buffer.
-  gpu::memoryBarrier(
-      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
-      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
-      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
-  cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
-                Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  recordTraceStart(cmd, counters_);
   gpu::Descriptors descriptors;
   descriptors.buffer(LS_BINDING_TREE, tree_)
       .buffer(LS_BINDING_NODES, nodes_)

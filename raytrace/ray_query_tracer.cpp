@@ -13,8 +13,6 @@
 namespace penumbra {
 namespace {
 
-using Stage = vk::PipelineStageFlagBits2;
-using Access = vk::AccessFlagBits2;
 using Type = vk::DescriptorType;
 
 constexpr gpu::Binding kTraceBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
@@ -51,16 +49,8 @@ RayQueryTracer::RayQueryTracer(const gpu::Context& context, const Scene& scene, 
 }
 
 void RayQueryTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
-  // As BvhTracer::record: the compaction's writes (points, count, indirect arguments) feed this
-  // dispatch; earlier compute work may still use the counters and the visibility buffer.
-  gpu::memoryBarrier(
-      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
-      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
-      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
+  recordTraceStart(cmd, counters_);
   SceneAccelerationStructures::recordBuildToTrace(cmd);
-  cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
-                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
   tracePipeline_.bind(cmd, gpu::Descriptors{}
                                .accelerationStructure(RQ_BINDING_SCENE, structures_.top())
                                .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())

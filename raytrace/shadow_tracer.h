@@ -24,6 +24,21 @@ struct TraceReport {
   double hostMs = 0.0;                         // CPU time spent in finish()
 };
 
+// What a GPU tracer's record() starts with: the compaction's compute writes (points, count, the
+// indirect arguments) ordered before the trace, earlier compute work that may still use the counters
+// and the visibility buffer ordered before their reuse, then the counters zeroed on the GPU.
+inline void recordTraceStart(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& counters) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  gpu::memoryBarrier(
+      cmd, Stage::eComputeShader, Access::eShaderStorageWrite,
+      Stage::eDrawIndirect | Stage::eComputeShader | Stage::eTransfer,
+      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite | Access::eTransferWrite);
+  cmd.fillBuffer(counters.handle(), 0, VK_WHOLE_SIZE, 0u);
+  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+}
+
 class ShadowTracer {
  public:
   virtual ~ShadowTracer() = default;
