@@ -58,6 +58,9 @@ nlohmann::json FrameStats::toJson() const {
                                            {"sah_growth", refit->growth},
                                            {"rebuilt", refit->rebuilt}, {"rebuilds", refit->rebuilds}}
                           : nlohmann::json(nullptr)},
+          {"thin_pass", thinPass ? nlohmann::json{{"faces", thinPass->faces}, {"triangles", thinPass->triangles},
+                                                  {"thin_triangles", thinPass->thin}, {"selection_reused", thinPass->reused}}
+                                 : nlohmann::json(nullptr)},
           {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
           {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
           {"trace_bytes_simulated", orNull(traceBytesSimulated)},

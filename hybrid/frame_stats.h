@@ -46,6 +46,14 @@ struct FrameStats {
     std::uint64_t rebuilds = 0;  // rebuilds so far
   };
   std::optional<Refit> refit;
+  // srt's thin pass: light faces, the scene's triangles, the thin ones drawn (summed over faces),
+  // and whether the selection of the previous frame was reused (light and geometry unchanged).
+  struct ThinPass {
+    std::uint32_t faces = 1;
+    std::uint64_t triangles = 0, thin = 0;
+    bool reused = false;
+  };
+  std::optional<ThinPass> thinPass;
   std::optional<ErrorMetrics> error;                   // vs the reference, when compared
   std::optional<ImageErrorMetrics> imageError;         // shaded image vs the reference's, when compared
   // --simulate-bandwidth (raytrace/bandwidth_model.h): DRAM bytes and 128-byte lines of the trace

@@ -116,10 +116,12 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
       thin_ = std::make_unique<raster::ThinTrianglePass>(context_, settings_.shadowMap, frameData_.shadow.faceCount,
                                                          settings_.thin);
     }
-    stats.memoryBytes["thin_mask"] = thin_->depth().bytes();
+    stats.memoryBytes["thin_mask"] = thin_->bytes();
     timer_.begin(cmd, "thin_pass");
     thin_->record(cmd, geometry_, frameData_.shadow);
     timer_.end(cmd);
+    stats.thinPass = FrameStats::ThinPass{
+        .faces = frameData_.shadow.faceCount, .triangles = scene_.triangleCount(), .reused = thin_->selectionReused()};
   }
   const gpu::Image* thinMask = thin ? &thin_->depth() : nullptr;
   const vk::Sampler thinSampler = thin ? thin_->sampler() : vk::Sampler{};
@@ -209,6 +211,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
 
   const auto start = std::chrono::steady_clock::now();
   method->run(*this, stats);
+  if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     timer_.begin(cmd, "shade");
     shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, color_);

@@ -14,8 +14,9 @@ std::size_t vertexCount(const Scene& scene) {
 }  // namespace
 
 SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene)
-    : vertices_(context, vertexCount(scene) * sizeof(RasterVertex), vk::BufferUsageFlagBits::eVertexBuffer, "scene vertices"),
-      indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer,
+    : vertices_(context, vertexCount(scene) * sizeof(RasterVertex), vk::BufferUsageFlagBits::eVertexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
+                "scene vertices"),
+      indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
                "scene indices") {
   if (vertexCount(scene) > std::numeric_limits<std::uint32_t>::max()) {
     throw InputError("scene '" + scene.name + "' has more than 2^32 vertices; split it into smaller scenes");
@@ -39,6 +40,7 @@ void SceneGeometry::update(const Scene& scene) {
     }
     vertex += mesh.positions.size();
   }
+  ++version_;
 }
 
 void SceneGeometry::bind(const vk::raii::CommandBuffer& cmd) const {

@@ -23,15 +23,21 @@ class SceneGeometry {
   // Rewrites the vertices of the scene's dynamic meshes (same scene, posed anew; host-visible
   // memory, so call it between frames, when no submission reads the buffer).
   void update(const Scene& scene);
+  // Counts update()s: passes that cache what they derived from the vertices compare it.
+  std::uint64_t version() const { return version_; }
   void bind(const vk::raii::CommandBuffer& cmd) const;  // vertex + index buffers
   void draw(const vk::raii::CommandBuffer& cmd) const;  // the whole scene
   std::uint32_t indexCount() const { return indexCount_; }
   vk::DeviceSize bytes() const { return vertices_.size() + indices_.size(); }
+  // Also bound as storage buffers (RasterVertex as 9 floats; 3 indices per triangle) by compute passes.
+  const gpu::Buffer& vertices() const { return vertices_; }
+  const gpu::Buffer& indices() const { return indices_; }
 
  private:
   gpu::Buffer vertices_;
   gpu::Buffer indices_;
   std::uint32_t indexCount_ = 0;
+  std::uint64_t version_ = 0;
 };
 
 }  // namespace penumbra::raster

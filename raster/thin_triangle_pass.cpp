@@ -1,11 +1,13 @@
 #include "raster/thin_triangle_pass.h"
 #include "raster/light_faces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "shared/thin.h"
+#include "thin_select_comp.h"
 #include "thin_triangles_frag.h"
 #include "thin_triangles_geom.h"
 #include "thin_triangles_vert.h"
@@ -44,6 +46,21 @@ gpu::GraphicsPipelineDesc pipelineDesc() {
   return d;
 }
 
+constexpr gpu::Binding kSelectBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
+                                           {1, vk::DescriptorType::eStorageBuffer},
+                                           {2, vk::DescriptorType::eStorageBuffer},
+                                           {3, vk::DescriptorType::eStorageBuffer}};
+constexpr vk::DeviceSize kDrawStride = THIN_DRAW_WORDS * sizeof(std::uint32_t);
+constexpr std::uint32_t kDrawCommandBytes = 5 * sizeof(std::uint32_t);  // VkDrawIndexedIndirectCommand
+
+shared::ThinTrianglePush pushFor(const shared::ShadowMapInfo& info, std::uint32_t face, const ThinTriangleSettings& thin) {
+  return {.viewProj = info.viewProj[face],
+          .resolution = float(info.resolution),
+          .maxWidthTexels = thin.maxWidthTexels,
+          .minAspect = thin.minAspect,
+          .texelWorld = info.texelWorld};
+}
+
 }  // namespace
 
 ThinTrianglePass::ThinTrianglePass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount,
@@ -56,19 +73,88 @@ ThinTrianglePass::ThinTrianglePass(const gpu::Context& context, const ShadowMapS
                            vk::ImageUsageFlagBits::eTransferSrc,
                        "thin triangle mask", true}),
       sampler_(gpu::makeNearestSampler(context, "thin triangle mask sampler")),
-      pipeline_(context, pipelineDesc()) {}
+      pipeline_(context, pipelineDesc()),
+      select_(context, thin_select_comp, kSelectBindings, sizeof(shared::ThinSelectPush), "thin triangle selection"),
+      context_(context),
+      draws_(context, faceCount * kDrawStride,
+             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer |
+                 vk::BufferUsageFlagBits::eTransferDst,
+             "thin triangle draws") {}
+
+void ThinTrianglePass::recordSelection(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
+                                       const shared::ShadowMapInfo& info) {
+  const std::uint32_t triangles = geometry.indexCount() / 3;
+  const std::uint32_t faces = info.faceCount;
+  // Thin triangles are usually a small share of a scene: a quarter fits most (settings). One
+  // storage binding holds all faces' lists.
+  const vk::DeviceSize maxRange = context_.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  const std::uint32_t wanted = thin_.listCapacity ? thin_.listCapacity : std::max<std::uint32_t>(65536, triangles / 4);
+  const std::uint32_t capacity =
+      std::max<std::uint32_t>(1, std::min<vk::DeviceSize>({triangles, wanted, maxRange / (12 * faces)}));
+  if (!list_ || capacity_ != capacity) {
+    capacity_ = capacity;
+    list_ = std::make_unique<gpu::Buffer>(context_, vk::DeviceSize(faces) * capacity * 12,
+                                          vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndexBuffer,
+                                          "thin triangle list");
+  }
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  // A selection recorded earlier in the same command buffer may still be drawing from both.
+  gpu::memoryBarrier(cmd, Stage::eDrawIndirect | Stage::eIndexInput, Access::eIndirectCommandRead | Access::eIndexRead,
+                     Stage::eAllTransfer | Stage::eComputeShader, Access::eTransferWrite | Access::eShaderStorageWrite);
+  std::vector<std::uint32_t> init(std::size_t(faces) * THIN_DRAW_WORDS, 0u);
+  for (std::uint32_t face = 0; face < faces; ++face) {
+    std::uint32_t* d = &init[std::size_t(face) * THIN_DRAW_WORDS];
+    d[THIN_DRAW_LIST + 1] = 1;                      // instanceCount
+    d[THIN_DRAW_LIST + 2] = face * capacity * 3;    // firstIndex
+    d[THIN_DRAW_ALL + 1] = 1;
+  }
+  cmd.updateBuffer<std::uint32_t>(draws_.handle(), 0, init);
+  gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  if (triangles > 0) {
+    select_.bind(cmd, gpu::Descriptors{}.buffer(0, geometry.vertices()).buffer(1, geometry.indices()).buffer(2, draws_).buffer(3, *list_));
+    const std::uint32_t groups = (triangles + THIN_SELECT_GROUP_SIZE - 1) / THIN_SELECT_GROUP_SIZE;
+    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
+    for (std::uint32_t face = 0; face < faces; ++face) {
+      select_.pushConstants(cmd, shared::ThinSelectPush{.thin = pushFor(info, face, thin_),
+                                                        .face = face,
+                                                        .capacity = capacity,
+                                                        .triangles = triangles,
+                                                        .rowInvocations = gx * THIN_SELECT_GROUP_SIZE});
+      cmd.dispatch(gx, gy, 1);
+    }
+  }
+  gpu::memoryBarrier(cmd, Stage::eComputeShader, Access::eShaderStorageWrite, Stage::eDrawIndirect | Stage::eIndexInput,
+                     Access::eIndirectCommandRead | Access::eIndexRead);
+}
+
+std::uint64_t ThinTrianglePass::thinTriangles() const {
+  const auto words = draws_.download<std::uint32_t>(std::size_t(faceCount()) * THIN_DRAW_WORDS);
+  std::uint64_t n = 0;
+  for (std::uint32_t face = 0; face < faceCount(); ++face) n += words[std::size_t(face) * THIN_DRAW_WORDS + THIN_DRAW_COUNT];
+  return n;
+}
+
+vk::DeviceSize ThinTrianglePass::bytes() const { return depth_.bytes() + draws_.size() + (list_ ? list_->size() : 0); }
 
 void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
-                              const shared::ShadowMapInfo& info) const {
+                              const shared::ShadowMapInfo& info) {
+  Selection key{&geometry, geometry.version(), {}};
+  for (std::uint32_t face = 0; face < info.faceCount; ++face) key.viewProj[face] = info.viewProj[face];
+  reused_ = selection_ == key;
+  if (!reused_) {
+    recordSelection(cmd, geometry, info);
+    selection_ = key;
+  }
   recordLightFaces(cmd, depth_, info, [&](std::uint32_t face) {
     pipeline_.bind(cmd, gpu::Descriptors{});
-    pipeline_.pushConstants(cmd, shared::ThinTrianglePush{.viewProj = info.viewProj[face],
-                                                          .resolution = float(info.resolution),
-                                                          .maxWidthTexels = thin_.maxWidthTexels,
-                                                          .minAspect = thin_.minAspect,
-                                                          .texelWorld = info.texelWorld});
+    pipeline_.pushConstants(cmd, pushFor(info, face, thin_));
     geometry.bind(cmd);
-    geometry.draw(cmd);
+    cmd.bindIndexBuffer(list_->handle(), 0, vk::IndexType::eUint32);
+    cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_LIST * 4, 1, kDrawCommandBytes);
+    cmd.bindIndexBuffer(geometry.indices().handle(), 0, vk::IndexType::eUint32);
+    cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_ALL * 4, 1, kDrawCommandBytes);
   });
 }
 

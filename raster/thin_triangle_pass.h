@@ -4,8 +4,14 @@
 // keeps only the thin triangles and rasterizes them conservatively (Hasselgren et al. 2005) into a
 // depth mask: 1.0 where no thin triangle touches a texel, else the nearest depth of the thin
 // triangles touching it. Receivers behind a covered texel are potentially incorrect and get traced.
+// The mask is dilated by THIN_DILATE_TEXELS (shared/thin.h): classification reads one texel for its
+// 3x3 neighbourhood. Only thin triangles are drawn: a compute pass (thin_select.comp) lists them
+// per face, and the list is kept while the faces' matrices and the geometry stay the same.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
 
 #include "gpu/pipeline.h"
 #include "raster/scene_geometry.h"
@@ -23,6 +29,9 @@ namespace penumbra::raster {
 struct ThinTriangleSettings {
   float maxWidthTexels = 1.0f;
   float minAspect = 4.0f;
+  // Thin triangles listed per face; 0: a quarter of the scene's, at least 65536. A face with more
+  // draws the whole scene instead (the geometry shader still keeps only the thin ones).
+  std::uint32_t listCapacity = 0;
 };
 
 class ThinTrianglePass {
@@ -33,9 +42,15 @@ class ThinTrianglePass {
                    ThinTriangleSettings thin = {});
   // Renders info.faceCount faces into the mask (cleared to 1.0, depth test LESS, no bias: the mask
   // must never be farther than the triangle). A thin triangle writes the minimum NDC depth of its
-  // (near-clipped) corners to every texel its square touches. Leaves the mask in SHADER_READ_ONLY
-  // layout for compute reads.
-  void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info) const;
+  // (near-clipped) corners to every texel within THIN_DILATE_TEXELS of a texel its square touches.
+  // Selects the thin triangles first unless the last selection was for the same faces and geometry
+  // version. Leaves the mask in SHADER_READ_ONLY layout for compute reads.
+  void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info);
+  // After the recorded frame ran: thin triangles summed over faces, and whether record() reused the
+  // previous selection.
+  std::uint64_t thinTriangles() const;
+  bool selectionReused() const { return reused_; }
+  vk::DeviceSize bytes() const;  // mask, list and draws
   const gpu::Image& depth() const { return depth_; }  // D32, one layer per face, arrayed view
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
@@ -47,6 +62,22 @@ class ThinTrianglePass {
   gpu::Image depth_;
   vk::raii::Sampler sampler_;
   gpu::GraphicsPipeline pipeline_;
+  gpu::ComputePipeline select_;
+
+  // What the list was selected for.
+  struct Selection {
+    const SceneGeometry* geometry;
+    std::uint64_t version;
+    std::array<glm::mat4, SHADOW_MAX_FACES> viewProj;
+    bool operator==(const Selection&) const = default;
+  };
+  void recordSelection(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info);
+  const gpu::Context& context_;
+  std::optional<Selection> selection_;
+  bool reused_ = false;
+  std::uint32_t capacity_ = 0;        // triangles per face in the list
+  std::unique_ptr<gpu::Buffer> list_;   // indices, faceCount * capacity_ * 3
+  gpu::Buffer draws_;                 // THIN_DRAW_WORDS uints per face
 };
 
 }  // namespace penumbra::raster

@@ -1,6 +1,7 @@
 #version 450
 // One level of the edge pyramid: each tile reduces the 2x2 tiles below it; level 1 finds the edge
-// texels of the shadow map (3x3 depth edge, or a thin triangle) and their blocker depth.
+// texels of the shadow map (3x3 depth edge, or a thin triangle within a texel: the thin mask is
+// dilated, shared/thin.h) and their blocker depth.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/pyramid.h"

@@ -182,12 +182,12 @@ void main() {
       delta = max(delta, abs(sq - s));
       zMin = min(zMin, sq);
       zMax = max(zMax, sq);
-      if (push.useThin != 0u) {
-        float thin = texelFetch(thinMask, ivec3(q, int(face)), 0).r;
-        if (thin < ndc.z) flags |= PIP_THIN;
-        zMin = min(zMin, linearDepth(thin));
-      }
     }
+  }
+  if (push.useThin != 0u) {  // the mask is dilated: this texel holds its 3x3 neighbourhood's nearest thin triangle
+    float thin = texelFetch(thinMask, ivec3(clamp(t, ivec2(0), ivec2(res - 1)), int(face)), 0).r;
+    if (thin < ndc.z) flags |= PIP_THIN;
+    zMin = min(zMin, linearDepth(thin));
   }
 
   float d = linearDepth(ndc.z);

@@ -3,7 +3,8 @@
 #include "shared/thin.h"
 // Thin-triangle pass (Lauterbach et al. 2009, section 3.1): keeps only the triangles that are thin
 // in texel space and rasterizes them conservatively (Hasselgren et al. 2005), so every texel whose
-// square the triangle touches gets a fragment. Ordinary triangles emit nothing.
+// square the triangle touches gets a fragment. Ordinary triangles emit nothing. It is drawn over the
+// triangles thin_select.comp picked (thinOnFace in thin_face.glsl, the same test).
 //
 // Enlargement: Hasselgren moves each edge outward by the half-texel box's support along its
 // normal, 0.5 * (|nx| + |ny|), and keeps the result inside the bounding box grown by half a texel.
@@ -14,6 +15,9 @@
 // covering that region (aligned with the longest edge, so a diagonal sliver costs about its own
 // area) and the fragment shader discards centres outside a slab or the box. Straight-line code:
 // lavapipe compiles loops over local arrays in a geometry shader very slowly.
+//
+// Dilation: every support and the box grow by THIN_DILATE_TEXELS more, so a texel is covered when
+// the triangle touches its 3x3 neighbourhood (shared/thin.h).
 //
 // Near plane: corners with z < 0 (behind Vulkan's near plane; w <= 0 behind the light) are clipped
 // off in closed form before any divide, leaving a triangle or a quad whose near-plane corners have
@@ -31,7 +35,7 @@ layout(location = THIN_EDGES) flat out vec4 outBox;
 layout(location = THIN_EDGES + 1) flat out float outDepth;
 layout(push_constant) uniform PushBlock { ThinTrianglePush push; };
 
-vec2 texel(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * push.resolution; }
+#include "thin_face.glsl"
 
 // Slab of edge a-b holding the corners q0..q3, as bounds on dot(normal, texel coordinates).
 vec4 edgeSlab(vec4 a, vec4 b, vec4 q0, vec4 q1, vec4 q2, vec4 q3) {
@@ -46,7 +50,7 @@ vec4 edgeSlab(vec4 a, vec4 b, vec4 q0, vec4 q1, vec4 q2, vec4 q3) {
                     dot(line, q3.xyw) / q3.w);
   float lo = min(min(d.x, d.y), min(d.z, d.w));
   float hi = max(max(d.x, d.y), max(d.z, d.w));
-  float support = 0.5 * (abs(normal.x) + abs(normal.y)) + THIN_EPSILON_TEXELS;
+  float support = (0.5 + THIN_DILATE_TEXELS) * (abs(normal.x) + abs(normal.y)) + THIN_EPSILON_TEXELS;
   return vec4(normal, lo - support - constant, hi + support - constant);
 }
 
@@ -62,53 +66,17 @@ void emit(vec2 corner, vec4 e0, vec4 e1, vec4 e2, vec4 e3, vec4 box, float depth
 }
 
 void main() {
-  vec4 c0 = gl_in[0].gl_Position;
-  vec4 c1 = gl_in[1].gl_Position;
-  vec4 c2 = gl_in[2].gl_Position;
-  bool b0 = c0.z < 0.0;
-  bool b1 = c1.z < 0.0;
-  bool b2 = c2.z < 0.0;
-  uint behind = uint(b0) + uint(b1) + uint(b2);
-  if (behind == 3u) return;
-
-  // The clipped polygon q0..q3 (a triangle repeats its last corner).
-  vec4 q0 = c0, q1 = c1, q2 = c2, q3 = c2;
-  if (behind > 0u) {
-    // Rotate so that `a` is the odd corner: the one behind, or the one in front.
-    bool odd0 = behind == 1u ? b0 : !b0;
-    bool odd1 = behind == 1u ? b1 : !b1;
-    vec4 a = odd0 ? c0 : (odd1 ? c1 : c2);
-    vec4 b = odd0 ? c1 : (odd1 ? c2 : c0);
-    vec4 d = odd0 ? c2 : (odd1 ? c0 : c1);
-    vec4 ab = mix(a, b, a.z / (a.z - b.z));
-    vec4 da = mix(d, a, d.z / (d.z - a.z));
-    if (behind == 1u) {
-      q0 = ab; q1 = b; q2 = d; q3 = da;
-    } else {
-      q0 = a; q1 = ab; q2 = da; q3 = da;
-    }
+  vec4 q0, q1, q2, q3;
+  uint behind;
+  if (!thinOnFace(gl_in[0].gl_Position, gl_in[1].gl_Position, gl_in[2].gl_Position, inWorld[0], inWorld[1], inWorld[2], q0,
+                  q1, q2, q3, behind)) {
+    return;
   }
-  if (!(min(min(q0.w, q1.w), min(q2.w, q3.w)) > 0.0)) return;
-
   float res = push.resolution;
   vec2 p0 = texel(q0), p1 = texel(q1), p2 = texel(q2), p3 = texel(q3);
-  bool thin;
-  if (behind == 0u) {
-    thin = thinTriangle(p0, p1, p2, push.maxWidthTexels, push.minAspect);
-  } else {
-    vec3 e0 = inWorld[1] - inWorld[0];
-    vec3 e1 = inWorld[2] - inWorld[1];
-    vec3 e2 = inWorld[0] - inWorld[2];
-    float size = push.texelWorld * max(max(q0.w, q1.w), max(q2.w, q3.w));
-    float longest = sqrt(max(dot(e0, e0), max(dot(e1, e1), dot(e2, e2)))) / size;
-    thin = thinMeasure(longest, length(cross(e0, e2)) / (size * size), push.maxWidthTexels, push.minAspect);
-  }
-  if (!thin) return;
-
   vec2 lo = min(min(p0, p1), min(p2, p3));
   vec2 hi = max(max(p0, p1), max(p2, p3));
-  if (hi.x <= 0.0 || hi.y <= 0.0 || lo.x >= res || lo.y >= res) return;  // touches no texel
-  float grow = 0.5 + THIN_EPSILON_TEXELS;
+  float grow = 0.5 + THIN_DILATE_TEXELS + THIN_EPSILON_TEXELS;
   vec4 box = vec4(clamp(lo, -1.0, res + 1.0) - grow, clamp(hi, -1.0, res + 1.0) + grow);
   float depth = clamp(min(min(q0.z / q0.w, q1.z / q1.w), min(q2.z / q2.w, q3.z / q3.w)), 0.0, 1.0);
   vec4 s0 = edgeSlab(q0, q1, q0, q1, q2, q3);
@@ -124,8 +92,8 @@ void main() {
     vec2 v = vec2(-u.y, u.x);
     vec3 du = vec3(dot(u, p0), dot(u, p1), dot(u, p2));
     vec3 dv = vec3(dot(v, p0), dot(v, p1), dot(v, p2));
-    float gu = 0.5 * (abs(u.x) + abs(u.y)) + THIN_EPSILON_TEXELS;
-    float gv = 0.5 * (abs(v.x) + abs(v.y)) + THIN_EPSILON_TEXELS;
+    float gu = (0.5 + THIN_DILATE_TEXELS) * (abs(u.x) + abs(u.y)) + THIN_EPSILON_TEXELS;
+    float gv = (0.5 + THIN_DILATE_TEXELS) * (abs(v.x) + abs(v.y)) + THIN_EPSILON_TEXELS;
     float u0 = min(du.x, min(du.y, du.z)) - gu, u1 = max(du.x, max(du.y, du.z)) + gu;
     float v0 = min(dv.x, min(dv.y, dv.z)) - gv, v1 = max(dv.x, max(dv.y, dv.z)) + gv;
     emit(u * u0 + v * v0, s0, s1, s2, s3, box, depth);

@@ -10,6 +10,11 @@ PN_BEGIN
 // snapping (1/256 texel on lavapipe) and float rounding, so "touches" never loses a texel to a tie.
 #define THIN_EPSILON_TEXELS (1.0f / 64.0f)
 
+// The mask is dilated: texel t holds the nearest depth of the thin triangles touching any texel of
+// the (2 * THIN_DILATE_TEXELS + 1)^2 block centred on t, so PIP classification reads one texel for
+// its 3x3 neighbourhood instead of nine.
+#define THIN_DILATE_TEXELS 1.0f
+
 // Edges of the near-clipped triangle (at most a quad) the fragment shader tests against.
 #define THIN_EDGES 4
 
@@ -19,6 +24,22 @@ struct ThinTrianglePush {  // 80 bytes
   float maxWidthTexels;    // thin: the smallest texel-space altitude is below this ...
   float minAspect;         // ... and longest edge / smallest altitude is at least this
   float texelWorld;        // ShadowMapInfo::texelWorld: world size of a texel at clip w = 1
+};
+
+// Selection (thin_select.comp): per light face, the thin triangles' indices are appended to a list
+// drawn by two indexed indirect draws: the list, and (when the list overflowed) the whole scene.
+#define THIN_SELECT_GROUP_SIZE 256
+#define THIN_DRAW_WORDS 16  // uints per face in the draws buffer:
+#define THIN_DRAW_LIST 0    //   VkDrawIndexedIndirectCommand over the face's part of the list
+#define THIN_DRAW_ALL 5     //   VkDrawIndexedIndirectCommand over the scene (indexCount 0 unless overflowed)
+#define THIN_DRAW_COUNT 10  //   thin triangles found (may exceed the capacity)
+
+struct ThinSelectPush {  // 96 bytes
+  ThinTrianglePush thin;
+  uint face;             // draws[face * THIN_DRAW_WORDS ...], list[face * capacity * 3 ...]
+  uint capacity;         // triangles per face in the list
+  uint triangles;        // in the scene
+  uint rowInvocations;   // invocations per row of the 2D dispatch grid
 };
 
 // The criterion on a triangle's longest edge and twice its area, in texel units: the smallest
