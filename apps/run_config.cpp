@@ -87,6 +87,10 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
+  app.add_option("--shadow-reads", c.shadowReads,
+                 "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, "
+                 "far cheaper on lavapipe), or auto (buffer on CPU devices)")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "texture", "buffer"}));
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_option("--tracer", c.tracer,
                  "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
@@ -178,7 +182,9 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
 
   s.settings.spp = c.spp;
   s.settings.referenceSpp = c.referenceSpp;
-  s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset};
+  using Reads = raster::ShadowMapSettings::Reads;
+  const Reads reads = c.shadowReads == "texture" ? Reads::Texture : c.shadowReads == "buffer" ? Reads::Buffer : Reads::Auto;
+  s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset, reads};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.rayEpsilon = c.rayEpsilon;
@@ -221,7 +227,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
-                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}}},
+                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}}},
           {"warnings", s.scene.warnings},
           {"device", context.deviceName()},
           {"driver", context.driverInfo()}};

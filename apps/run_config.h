@@ -40,6 +40,7 @@ struct RunConfig {
   std::uint32_t penumbraMaps = 1;  // area lights: 1 or 5 shadow maps for the penumbra mask
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";
+  std::string shadowReads = "auto";
   bool validate = false;
   bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
   std::string outDir = "out";

@@ -44,8 +44,10 @@ std::uint32_t checkedBlockCount(const gpu::Context& context, std::uint32_t width
   if (width == 0 || height == 0) {
     throw std::invalid_argument("CompactPass: image size " + sizeText(width, height) + " is empty; use at least 1x1");
   }
-  const std::uint64_t pixels = std::uint64_t(width) * height;
-  if (pixels > kMaxPixels) {
+  // Items: whole tiles, so the last tile column and row count in full.
+  const std::uint64_t items =
+      std::uint64_t(shared::compactTilesX(width)) * ((height + COMPACT_TILE_H - 1) / COMPACT_TILE_H) * COMPACT_ITEMS;
+  if (items > kMaxPixels) {
     throw std::invalid_argument("CompactPass: " + sizeText(width, height) + " has more than " +
                                 std::to_string(kMaxPixels) + " pixels; render a smaller image");
   }
@@ -58,7 +60,7 @@ std::uint32_t checkedBlockCount(const gpu::Context& context, std::uint32_t width
     throw std::runtime_error("CompactPass: the Vulkan device " + context.deviceName() +
                              " lacks basic/arithmetic subgroup operations in compute shaders, which compaction needs");
   }
-  return std::uint32_t((pixels + COMPACT_BLOCK_PIXELS - 1) / COMPACT_BLOCK_PIXELS);
+  return std::uint32_t((items + COMPACT_BLOCK_PIXELS - 1) / COMPACT_BLOCK_PIXELS);
 }
 
 std::uint32_t maxGroupsX(const gpu::Context& context) {
@@ -150,7 +152,7 @@ void CompactPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuff
       .buffer(COMPACT_BINDING_BLOCKS, blocks_)
       .buffer(COMPACT_BINDING_POINTS, points_)
       .buffer(COMPACT_BINDING_COUNT, count_);
-  const shared::CompactPush push{mode, width_ * height_, width_, blockCount_};
+  const shared::CompactPush push{mode, width_, height_, blockCount_};
 
   scan_.bind(cmd, descriptors);
   scan_.pushConstants(cmd, push);

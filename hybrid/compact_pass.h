@@ -1,4 +1,4 @@
-// Compaction: the sparse per-pixel trace flags (or the coverage alone) -> a dense, pixel-ordered
+// Compaction: the sparse per-pixel trace flags (or the coverage alone) -> a dense, tile-ordered
 // list of ShadingPoints, its count and the trace kernel's indirect dispatch size.
 // Three compute dispatches, reduce-then-scan (shaders/shared/compact.h describes them).
 // Limits: the scan itself handles any pixel count below 2^32 - COMPACT_BLOCK_PIXELS (16384^2 is
@@ -33,7 +33,7 @@ class CompactPass {
   void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& traceFlags,
               const gpu::Buffer& rayMax, const gpu::Buffer& frame, std::uint32_t mode) const;
 
-  // ShadingPoint[width * height]: the first count() entries are valid, in ascending pixel order.
+  // ShadingPoint[width * height]: the first count() entries are valid, in tile order (shared/compact.h).
   const gpu::Buffer& points() const { return points_; }
   // TraceCount: count, then the VkDispatchIndirectCommand {ceil(count / TRACE_GROUP_SIZE), 1, 1}
   // at byte offset 4 (eIndirectBuffer usage).

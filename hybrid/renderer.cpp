@@ -15,12 +15,20 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
 
+// Settings with the shadow maps' read path resolved for this device, so every map made from them
+// (centre, corners, msm) tells its shaders the same.
+RenderSettings resolved(const gpu::Context& context, RenderSettings s) {
+  using Reads = raster::ShadowMapSettings::Reads;
+  if (s.shadowMap.reads == Reads::Auto) s.shadowMap.reads = raster::bufferReads(context, s.shadowMap) ? Reads::Buffer : Reads::Texture;
+  return s;
+}
+
 }  // namespace
 
 Renderer::Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings)
     : context_(context),
       scene_(scene),
-      settings_(settings),
+      settings_(resolved(context, settings)),
       bounds_(scene.bounds()),
       geometry_(context, scene),
       gbuffer_(context, settings.width, settings.height),
@@ -123,8 +131,7 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     stats.thinPass = FrameStats::ThinPass{
         .faces = frameData_.shadow.faceCount, .triangles = scene_.triangleCount(), .reused = thin_->selectionReused()};
   }
-  const gpu::Image* thinMask = thin ? &thin_->depth() : nullptr;
-  const vk::Sampler thinSampler = thin ? thin_->sampler() : vk::Sampler{};
+  const raster::ThinTrianglePass* thinPass = thin ? thin_.get() : nullptr;
   const auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
   if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
     pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
@@ -132,12 +139,12 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
   if (shared::isAreaLight(frameData_.light)) {  // the penumbra mask reads the pyramid; hard shadows do not
     stats.memoryBytes["depth_pyramid"] = pyramid_->tiles().size();
     timer_.begin(cmd, "depth_pyramid");
-    pyramid_->record(cmd, *shadowMap_, thinMask, thinSampler, frameData_.shadow, push.deltaThreshold);
+    pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
     timer_.end(cmd);
   }
   const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_};
   timer_.begin(cmd, "classify");
-  classify_.record(cmd, gbuffer_, *shadowMap_, thinMask, thinSampler, *pyramid_, frameBuffer_, out, push);
+  classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
   timer_.end(cmd);
   if (shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5) {
     if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);

@@ -38,8 +38,8 @@ void CornerMapsPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeome
     push.cornerUnion = 1u;
     push.useIntervals = 0u;
     map_->record(cmd, geometry, infos[i]);
-    pyramid_->record(cmd, *map_, nullptr, vk::Sampler{}, infos[i], push.deltaThreshold);
-    classify.record(cmd, gbuffer, *map_, nullptr, vk::Sampler{}, *pyramid_, *frames_[i], out, push);
+    pyramid_->record(cmd, *map_, nullptr, infos[i], push.deltaThreshold);
+    classify.record(cmd, gbuffer, *map_, nullptr, *pyramid_, *frames_[i], out, push);
   }
 }
 

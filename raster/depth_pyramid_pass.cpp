@@ -7,7 +7,9 @@ namespace {
 
 constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eCombinedImageSampler},
                                       {1, vk::DescriptorType::eCombinedImageSampler},
-                                      {2, vk::DescriptorType::eStorageBuffer}};
+                                      {2, vk::DescriptorType::eStorageBuffer},
+                                      {3, vk::DescriptorType::eStorageBuffer},
+                                      {4, vk::DescriptorType::eStorageBuffer}};
 
 // Levels until one tile covers the whole face.
 std::uint32_t levelCount(std::uint32_t resolution) {
@@ -30,17 +32,26 @@ DepthPyramidPass::DepthPyramidPass(const gpu::Context& context, std::uint32_t re
       tiles_(context, tileBytes(resolution, faceCount), vk::BufferUsageFlagBits::eStorageBuffer, "depth pyramid"),
       pipeline_(context, depth_pyramid_comp, kBindings, sizeof(shared::PyramidPush), "depth pyramid pipeline") {}
 
-void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const gpu::Image* thinMask,
-                              vk::Sampler thinSampler, const shared::ShadowMapInfo& info, float deltaThreshold) const {
-  // Without a thin mask the binding still needs an image: the shadow map stands in, unread.
+void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
+                              const shared::ShadowMapInfo& info, float deltaThreshold) const {
+  // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   pipeline_.bind(cmd, gpu::Descriptors{}
                           .sampledImage(0, shadowMap.depth().view(), shadowMap.sampler())
-                          .sampledImage(1, thinMask ? thinMask->view() : shadowMap.depth().view(),
-                                        thinMask ? thinSampler : shadowMap.sampler())
-                          .buffer(2, tiles_));
+                          .sampledImage(1, thin ? thin->depth().view() : shadowMap.depth().view(),
+                                        thin ? thin->sampler() : shadowMap.sampler())
+                          .buffer(2, tiles_)
+                          .buffer(3, shadowMap.texels())
+                          .buffer(4, thin ? thin->texels() : shadowMap.texels()));
   for (std::uint32_t level = 1; level <= levels_; ++level) {
-    pipeline_.pushConstants(cmd, shared::PyramidPush{level, resolution_, faceCount_, thinMask ? 1u : 0u, info.kind,
-                                                     info.nearPlane, info.farPlane, deltaThreshold});
+    pipeline_.pushConstants(cmd, shared::PyramidPush{.level = level,
+                                                     .resolution = resolution_,
+                                                     .faceCount = faceCount_,
+                                                     .useThin = thin ? 1u : 0u,
+                                                     .kind = info.kind,
+                                                     .nearPlane = info.nearPlane,
+                                                     .farPlane = info.farPlane,
+                                                     .deltaThreshold = deltaThreshold,
+                                                     .texelBuffer = info.texelBuffer});
     const std::uint32_t dim = shared::pyramidDim(resolution_, level);
     cmd.dispatch((dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, (dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, faceCount_);
     gpu::computeToComputeAndHost(cmd);

@@ -3,6 +3,7 @@
 #pragma once
 #include "gpu/pipeline.h"
 #include "raster/shadow_map_pass.h"
+#include "raster/thin_triangle_pass.h"
 #include "shared/pyramid.h"
 
 namespace penumbra::raster {
@@ -10,9 +11,9 @@ namespace penumbra::raster {
 class DepthPyramidPass {
  public:
   DepthPyramidPass(const gpu::Context& context, std::uint32_t resolution, std::uint32_t faceCount);
-  // thinMask may be nullptr (no thin-triangle pass): then the minimum is the shadow map's alone.
-  void record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const gpu::Image* thinMask,
-              vk::Sampler thinSampler, const shared::ShadowMapInfo& info, float deltaThreshold) const;
+  // thin may be nullptr (no thin-triangle pass): then the minimum is the shadow map's alone.
+  void record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
+              const shared::ShadowMapInfo& info, float deltaThreshold) const;
   const gpu::Buffer& tiles() const { return tiles_; }
   std::uint32_t levels() const { return levels_; }
   std::uint32_t faceCount() const { return faceCount_; }

@@ -5,7 +5,7 @@
 namespace penumbra::raster {
 
 void recordLightFaces(const vk::raii::CommandBuffer& cmd, const gpu::Image& depth, const shared::ShadowMapInfo& info,
-                      const std::function<void(std::uint32_t face)>& drawFace) {
+                      const std::function<void(std::uint32_t face)>& drawFace, const gpu::Buffer* texels) {
   if (info.faceCount != depth.desc().layers || info.resolution != depth.desc().width) {
     throw std::logic_error(depth.desc().name + ": shadow map info does not match the image's faces or resolution");
   }
@@ -28,9 +28,22 @@ void recordLightFaces(const vk::raii::CommandBuffer& cmd, const gpu::Image& dept
     drawFace(face);
     cmd.endRendering();
   }
-  gpu::transition(cmd, depth, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eShaderReadOnlyOptimal,
-                               Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eComputeShader,
-                               Access::eShaderSampledRead});
+  if (!texels) {
+    gpu::transition(cmd, depth, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eShaderReadOnlyOptimal,
+                                 Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eComputeShader,
+                                 Access::eShaderSampledRead});
+    return;
+  }
+  if (texels->size() < depth.bytes()) throw std::logic_error(depth.desc().name + ": texel buffer too small");
+  gpu::transition(cmd, depth, {vk::ImageLayout::eDepthAttachmentOptimal, vk::ImageLayout::eTransferSrcOptimal,
+                               Stage::eLateFragmentTests, Access::eDepthStencilAttachmentWrite, Stage::eCopy,
+                               Access::eTransferRead});
+  const vk::BufferImageCopy region{.imageSubresource = {depth.aspect(), 0, 0, depth.desc().layers},
+                                   .imageExtent = {res, res, 1}};
+  cmd.copyImageToBuffer(depth.handle(), vk::ImageLayout::eTransferSrcOptimal, texels->handle(), region);
+  gpu::transition(cmd, depth, {vk::ImageLayout::eTransferSrcOptimal, vk::ImageLayout::eShaderReadOnlyOptimal, Stage::eCopy,
+                               Access::eNone, Stage::eComputeShader, Access::eShaderSampledRead});
+  gpu::memoryBarrier(cmd, Stage::eCopy, Access::eTransferWrite, Stage::eComputeShader, Access::eShaderStorageRead);
 }
 
 }  // namespace penumbra::raster

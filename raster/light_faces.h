@@ -10,8 +10,10 @@
 
 namespace penumbra::raster {
 
+// With `texels`, the depths are also copied there (one float per texel, face after face) and made
+// visible to compute: storage-buffer reads are far cheaper than sampled-image fetches on lavapipe.
 // Throws std::logic_error when `info` does not match the image's faces or resolution.
 void recordLightFaces(const vk::raii::CommandBuffer& cmd, const gpu::Image& depth, const shared::ShadowMapInfo& info,
-                      const std::function<void(std::uint32_t face)>& drawFace);
+                      const std::function<void(std::uint32_t face)>& drawFace, const gpu::Buffer* texels = nullptr);
 
 }  // namespace penumbra::raster

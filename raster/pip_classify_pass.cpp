@@ -11,7 +11,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {2, vk::DescriptorType::eCombinedImageSampler}, {3, vk::DescriptorType::eCombinedImageSampler},
                                       {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
-                                      {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer}};
+                                      {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
+                                      {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -31,22 +32,24 @@ shared::PipPush PipClassifyPass::pushFor(const PipSettings& settings, const shar
 }
 
 void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-                             const gpu::Image* thinMask, vk::Sampler thinSampler, const DepthPyramidPass& pyramid,
-                             const gpu::Buffer& frame, const PipBuffers& out, shared::PipPush push) const {
+                             const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
+                             const PipBuffers& out, shared::PipPush push) const {
   push.pyramidLevels = pyramid.levels();
-  // Without a thin mask the binding still needs an image: the shadow map stands in, unread.
-  const vk::ImageView thinView = thinMask ? thinMask->view() : shadowMap.depth().view();
+  // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
+  const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
   pipeline_.bind(cmd, gpu::Descriptors{}
                           .storageImage(0, gbuffer.position().view())
                           .storageImage(1, gbuffer.normal().view())
                           .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
-                          .sampledImage(3, thinView, thinMask ? thinSampler : shadowMap.sampler())
+                          .sampledImage(3, thinView, thin ? thin->sampler() : shadowMap.sampler())
                           .buffer(4, frame)
                           .buffer(5, out.visibility)
                           .buffer(6, out.smVisibility)
                           .buffer(7, out.traceFlags)
                           .buffer(8, out.rayMax)
-                          .buffer(9, pyramid.tiles()));
+                          .buffer(9, pyramid.tiles())
+                          .buffer(10, shadowMap.texels())
+                          .buffer(11, thin ? thin->texels() : shadowMap.texels()));
   pipeline_.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -29,10 +29,10 @@ struct PipBuffers {
 class PipClassifyPass {
  public:
   explicit PipClassifyPass(const gpu::Context& context);
-  // thinMask: the thin-triangle depth mask, or nullptr when the thin pass is off.
+  // thin: the thin-triangle mask's pass, or nullptr when the thin pass is off.
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-              const gpu::Image* thinMask, vk::Sampler thinSampler, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
-              const PipBuffers& out, shared::PipPush push) const;
+              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out,
+              shared::PipPush push) const;
 
   // The push constants for `settings` on this frame's shadow map.
   static shared::PipPush pushFor(const PipSettings& settings, const shared::ShadowMapInfo& info, bool thinMaskBound,

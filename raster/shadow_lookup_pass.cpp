@@ -10,7 +10,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},
                                       {1, vk::DescriptorType::eStorageImage},
                                       {2, vk::DescriptorType::eCombinedImageSampler},
                                       {3, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer}};
+                                      {4, vk::DescriptorType::eStorageBuffer},
+                                      {5, vk::DescriptorType::eStorageBuffer}};
 
 // Matches the shader's push block.
 struct LookupPush {
@@ -29,7 +30,8 @@ void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferP
                           .storageImage(1, gbuffer.normal().view())
                           .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
                           .buffer(3, frame)
-                          .buffer(4, visibility));
+                          .buffer(4, visibility)
+                          .buffer(5, shadowMap.texels()));
   pipeline_.pushConstants(cmd, LookupPush{accumulateWeight});
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);

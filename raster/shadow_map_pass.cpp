@@ -36,6 +36,7 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   const float res = float(settings.resolution);
   info.resolution = settings.resolution;
   info.normalOffset = settings.normalOffsetTexels;
+  info.texelBuffer = settings.reads == ShadowMapSettings::Reads::Buffer ? 1u : 0u;
   info.faceCount = 1;
 
   if (light.type == LIGHT_DIRECTIONAL) {
@@ -87,12 +88,25 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   return info;
 }
 
+bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings) {
+  using Reads = ShadowMapSettings::Reads;
+  if (settings.reads != Reads::Auto) return settings.reads == Reads::Buffer;
+  return context.physicalDevice().getProperties().deviceType == vk::PhysicalDeviceType::eCpu;
+}
+
+gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings) {
+  const vk::DeviceSize bytes = bufferReads(context, settings) ? depth.bytes() : 4;
+  return gpu::Buffer(context, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                     depth.desc().name + " texels");
+}
+
 ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount)
     : settings_(settings),
       depth_(context, {vk::Format::eD32Sfloat, settings.resolution, settings.resolution, faceCount,
                        vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eSampled |
                            vk::ImageUsageFlagBits::eTransferSrc,  // readable by tests and debugging dumps
                        "shadow map", true}),
+      texels_(makeTexelBuffer(context, depth_, settings)),
       sampler_(gpu::makeNearestSampler(context, "shadow map sampler")),
       pipeline_(context, [] {
         gpu::GraphicsPipelineDesc d;
@@ -113,7 +127,7 @@ void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeomet
     pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
     geometry.bind(cmd);
     geometry.draw(cmd);
-  });
+  }, bufferReads() ? &texels_ : nullptr);
 }
 
 }  // namespace penumbra::raster

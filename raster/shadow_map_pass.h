@@ -18,7 +18,18 @@ struct ShadowMapSettings {
   float depthBiasConstant = 1.0f;  // in units of the minimum resolvable depth difference
   float depthBiasSlope = 1.5f;     // times the triangle's depth slope
   float normalOffsetTexels = 0.75f;
+  // How compute passes read the light's depth maps (shadow map, thin mask): Texture, as sampled
+  // images (right on a GPU), or Buffer, from a copy in a storage buffer (on lavapipe a sampled
+  // fetch costs several storage loads); Auto picks Buffer on CPU devices (texelReads()).
+  enum class Reads { Auto, Texture, Buffer } reads = Reads::Auto;
 };
+
+// settings.reads resolved for this device: true when passes read depths from texel buffers.
+// makeShadowMapInfo tells the shaders to read them only for Reads::Buffer (the Renderer resolves
+// Auto first); passes copy texels for Auto too, so an info never points at a missing copy.
+bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings);
+// The texel copy of a light depth map for those reads (a 4-byte stand-in when they are off).
+gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings);
 
 // Projection(s) for `light` covering `bounds`; pure math, no GPU. forceCube: six faces even where
 // one would do (maps that must share one image layout).
@@ -31,12 +42,16 @@ class ShadowMapPass {
   // Renders info.faceCount faces; leaves the map in SHADER_READ_ONLY layout for compute lookups.
   void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info) const;
   const gpu::Image& depth() const { return depth_; }
+  // One float per texel, face after face; a small stand-in when the passes read the image.
+  const gpu::Buffer& texels() const { return texels_; }
+  bool bufferReads() const { return texels_.size() >= depth_.bytes(); }
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
 
  private:
   ShadowMapSettings settings_;
   gpu::Image depth_;
+  gpu::Buffer texels_;
   vk::raii::Sampler sampler_;
   gpu::GraphicsPipeline pipeline_;
 };

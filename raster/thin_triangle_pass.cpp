@@ -72,6 +72,7 @@ ThinTrianglePass::ThinTrianglePass(const gpu::Context& context, const ShadowMapS
                        vk::ImageUsageFlagBits::eDepthStencilAttachment | vk::ImageUsageFlagBits::eSampled |
                            vk::ImageUsageFlagBits::eTransferSrc,
                        "thin triangle mask", true}),
+      texels_(makeTexelBuffer(context, depth_, settings)),
       sampler_(gpu::makeNearestSampler(context, "thin triangle mask sampler")),
       pipeline_(context, pipelineDesc()),
       select_(context, thin_select_comp, kSelectBindings, sizeof(shared::ThinSelectPush), "thin triangle selection"),
@@ -136,7 +137,9 @@ std::uint64_t ThinTrianglePass::thinTriangles() const {
   return n;
 }
 
-vk::DeviceSize ThinTrianglePass::bytes() const { return depth_.bytes() + draws_.size() + (list_ ? list_->size() : 0); }
+vk::DeviceSize ThinTrianglePass::bytes() const {
+  return depth_.bytes() + texels_.size() + draws_.size() + (list_ ? list_->size() : 0);
+}
 
 void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
                               const shared::ShadowMapInfo& info) {
@@ -155,7 +158,7 @@ void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeo
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_LIST * 4, 1, kDrawCommandBytes);
     cmd.bindIndexBuffer(geometry.indices().handle(), 0, vk::IndexType::eUint32);
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_ALL * 4, 1, kDrawCommandBytes);
-  });
+  }, texels_.size() >= depth_.bytes() ? &texels_ : nullptr);
 }
 
 }  // namespace penumbra::raster

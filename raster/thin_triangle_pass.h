@@ -52,6 +52,7 @@ class ThinTrianglePass {
   bool selectionReused() const { return reused_; }
   vk::DeviceSize bytes() const;  // mask, list and draws
   const gpu::Image& depth() const { return depth_; }  // D32, one layer per face, arrayed view
+  const gpu::Buffer& texels() const { return texels_; }  // see ShadowMapPass::texels
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
   const ThinTriangleSettings& thinSettings() const { return thin_; }
@@ -60,6 +61,7 @@ class ThinTrianglePass {
   ShadowMapSettings settings_;
   ThinTriangleSettings thin_;
   gpu::Image depth_;
+  gpu::Buffer texels_;
   vk::raii::Sampler sampler_;
   gpu::GraphicsPipeline pipeline_;
   gpu::ComputePipeline select_;

@@ -1,6 +1,6 @@
 #version 450
-// Compaction, pass 1 of 3 (see shared/compact.h): each invocation packs the selection of its
-// COMPACT_ITEMS consecutive pixels into one mask word; the workgroup sums its block's total.
+// Compaction, pass 1 of 3 (see shared/compact.h): each invocation packs the selection of its tile's
+// COMPACT_ITEMS pixels into one mask word; the workgroup sums its block's total.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/compact.h"
 layout(local_size_x = COMPACT_GROUP_SIZE) in;
@@ -17,13 +17,14 @@ void main() {
   uint rank = scanRank();
   uint first = block * COMPACT_BLOCK_PIXELS + rank * COMPACT_ITEMS;
   bool allCovered = (push.mode & COMPACT_MODE_MASK) == COMPACT_ALL_COVERED;
+  uint tilesX = compactTilesX(push.width);
   uint bits = 0u;
   for (uint i = 0u; i < COMPACT_ITEMS; ++i) {
-    uint p = first + i;
-    if (p >= push.pixelCount) break;
+    uvec2 pix = compactPixel(first + i, tilesX);
+    if (pix.x >= push.width || pix.y >= push.height) continue;
     // A flag on an uncovered pixel is ignored: there is no surface there to shade or trace from.
-    if (!allCovered && traceFlags[p] == 0u) continue;
-    if (imageLoad(gPosition, ivec2(p % push.width, p / push.width)).w != 0.0) bits |= 1u << i;
+    if (!allCovered && traceFlags[pix.y * push.width + pix.x] == 0u) continue;
+    if (imageLoad(gPosition, ivec2(pix)).w != 0.0) bits |= 1u << i;
   }
   mask[block * COMPACT_GROUP_SIZE + rank] = bits;
   uint total;

@@ -1,7 +1,7 @@
 #version 450
 // Compaction, pass 3 of 3 (see shared/compact.h): each invocation finds where its selected pixels
 // go (block offset + workgroup scan of the mask words' bit counts) and writes their ShadingPoints
-// in pixel order; only selected pixels touch the G-buffer.
+// in tile order; only selected pixels touch the G-buffer.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/compact.h"
 #include "shared/frame.h"
@@ -26,10 +26,11 @@ void main() {
   uint slot = blockOffsets[block] + workgroupExclusiveAdd(uint(bitCount(bits)), total);
   uint first = block * COMPACT_BLOCK_PIXELS + rank * COMPACT_ITEMS;
   uint spp = frame.spp;
-  while (bits != 0u) {  // set bits in ascending order = pixel order
-    uint p = first + uint(findLSB(bits));
+  uint tilesX = compactTilesX(push.width);
+  while (bits != 0u) {  // set bits in ascending order = list order
+    ivec2 pix = ivec2(compactPixel(first + uint(findLSB(bits)), tilesX));
     bits &= bits - 1u;
-    ivec2 pix = ivec2(p % push.width, p / push.width);
+    uint p = uint(pix.y) * push.width + uint(pix.x);
     ShadingPoint point;
     point.position = imageLoad(gPosition, pix).xyz;
     point.pixel = p;

@@ -9,7 +9,10 @@ layout(local_size_x = PYRAMID_GROUP_SIZE, local_size_y = PYRAMID_GROUP_SIZE) in;
 layout(binding = 0) uniform sampler2DArray shadowMap;
 layout(binding = 1) uniform sampler2DArray thinMask;
 layout(std430, binding = 2) buffer Pyramid { float tiles[]; };
+layout(std430, binding = 3) readonly buffer ShadowTexels { float shadowTexels[]; };
+layout(std430, binding = 4) readonly buffer ThinTexels { float thinTexels[]; };
 layout(push_constant) uniform PushBlock { PyramidPush push; };
+#include "light_texels.glsl"
 
 float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane, push.farPlane, z); }
 
@@ -17,20 +20,21 @@ float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane,
 float edgeTexel(ivec2 q, uint face) {
   int res = int(push.resolution);
   if (q.x >= res || q.y >= res) return 1.0;  // outside: neutral for the minimum
-  float depth = texelFetch(shadowMap, ivec3(q, int(face)), 0).r;
+  bool texelBuffer = push.texelBuffer != 0u;
+  float depth = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, q, face, res);
   float s = linearDepth(depth);
   float nearest = depth;
   float delta = 0.0;
   for (int y = -1; y <= 1; ++y) {
     for (int x = -1; x <= 1; ++x) {
       ivec2 r = clamp(q + ivec2(x, y), ivec2(0), ivec2(res - 1));
-      float other = texelFetch(shadowMap, ivec3(r, int(face)), 0).r;
+      float other = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, r, face, res);
       delta = max(delta, abs(linearDepth(other) - s));
       nearest = min(nearest, other);
     }
   }
   float blocker = delta > push.deltaThreshold ? nearest : 1.0;
-  if (push.useThin != 0u) blocker = min(blocker, texelFetch(thinMask, ivec3(q, int(face)), 0).r);
+  if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, q, face, res));
   return blocker;
 }
 

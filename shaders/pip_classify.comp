@@ -32,7 +32,10 @@ layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisib
 layout(std430, binding = 7) buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
 layout(std430, binding = 9) readonly buffer Pyramid { float tiles[]; };
+layout(std430, binding = 10) readonly buffer ShadowTexels { float shadowTexels[]; };
+layout(std430, binding = 11) readonly buffer ThinTexels { float thinTexels[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
+#include "light_texels.glsl"
 
 float linearDepth(float z) {
   return linearShadowDepth(frame.shadow.kind, frame.shadow.nearPlane, frame.shadow.farPlane, z);
@@ -162,7 +165,8 @@ void main() {
     if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) traceFlags[index] |= PIP_PENUMBRA;
     return;
   }
-  float raw = texelFetch(shadowMap, ivec3(clamp(t, ivec2(0), ivec2(res - 1)), int(face)), 0).r;
+  bool texelBuffer = frame.shadow.texelBuffer != 0u;
+  float raw = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
   float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
 
   // 3x3 neighbourhood: depth spread around s, minimum depth, thin coverage in front.
@@ -178,14 +182,14 @@ void main() {
         if (kind == SHADOW_CUBE) flags |= PIP_SEAM;
         continue;
       }
-      float sq = linearDepth(texelFetch(shadowMap, ivec3(q, int(face)), 0).r);
+      float sq = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, q, face, res));
       delta = max(delta, abs(sq - s));
       zMin = min(zMin, sq);
       zMax = max(zMax, sq);
     }
   }
   if (push.useThin != 0u) {  // the mask is dilated: this texel holds its 3x3 neighbourhood's nearest thin triangle
-    float thin = texelFetch(thinMask, ivec3(clamp(t, ivec2(0), ivec2(res - 1)), int(face)), 0).r;
+    float thin = LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
     if (thin < ndc.z) flags |= PIP_THIN;
     zMin = min(zMin, linearDepth(thin));
   }

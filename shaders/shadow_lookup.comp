@@ -11,6 +11,8 @@ layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
 layout(binding = 2) uniform sampler2DArray shadowMap;
 layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 4) buffer Visibility { float visibility[]; };
+layout(std430, binding = 5) readonly buffer ShadowTexels { float shadowTexels[]; };
+#include "light_texels.glsl"
 // accumulateWeight 0: overwrite visibility; > 0: add accumulateWeight * visibility (msm).
 layout(push_constant) uniform Push { float accumulateWeight; } push;
 
@@ -30,7 +32,7 @@ const vec2 kPoisson[16] = vec2[](
 float litAt(ivec2 t, uint face, float depth) {
   int res = int(frame.shadow.resolution);
   t = clamp(t, ivec2(0), ivec2(res - 1));
-  return depth <= texelFetch(shadowMap, ivec3(t, int(face)), 0).r ? 1.0 : 0.0;
+  return depth <= LIGHT_TEXEL(frame.shadow.texelBuffer != 0u, shadowMap, shadowTexels, t, face, res) ? 1.0 : 0.0;
 }
 
 void store(uint index, float v) {
@@ -58,7 +60,7 @@ float pcss(vec2 centre, uint face, float ndcZ, mat2 rot) {
     ivec2 t = ivec2(floor(centre + searchRadius * (rot * kPoisson[i])));
     int res = int(frame.shadow.resolution);
     t = clamp(t, ivec2(0), ivec2(res - 1));
-    float z = texelFetch(shadowMap, ivec3(t, int(face)), 0).r;
+    float z = LIGHT_TEXEL(frame.shadow.texelBuffer != 0u, shadowMap, shadowTexels, t, face, res);
     if (z < ndcZ) {
       blockerSum += linearShadowDepth(kind, nearPlane, farPlane, z);
       blockers += 1.0;

@@ -1,4 +1,4 @@
-// Compaction against a CPU reference on a real G-buffer (builtin:courtyard:2): pixel order,
+// Compaction against a CPU reference on a real G-buffer (builtin:courtyard:2): tile order,
 // positions and normals bit-identical to the G-buffer readback, spp from the frame, rayMax copied,
 // the count and the indirect dispatch size. Sizes cross mask-word (32 pixels), subgroup and block
 // (8192 pixels) boundaries, and the largest one gives the block scan more blocks than invocations.
@@ -96,7 +96,14 @@ struct CompactRig {
 
   std::vector<ShadingPoint> reference(const Flags& values, std::uint32_t mode) const {
     std::vector<ShadingPoint> out;
-    for (std::size_t i = 0; i < pixels(); ++i) {
+    // Tile order (shared/compact.h), written out here independently of compactPixel.
+    std::vector<std::size_t> order;
+    for (std::uint32_t ty = 0; ty < height; ty += COMPACT_TILE_H)
+      for (std::uint32_t tx = 0; tx < width; tx += COMPACT_TILE_W)
+        for (std::uint32_t y = ty; y < std::min(ty + COMPACT_TILE_H, height); ++y)
+          for (std::uint32_t x = tx; x < std::min(tx + COMPACT_TILE_W, width); ++x) order.push_back(std::size_t(y) * width + x);
+    EXPECT_EQ(order.size(), pixels());
+    for (std::size_t i : order) {
       if (!covered(i)) continue;  // a flag on an uncovered pixel is ignored
       if ((mode & COMPACT_MODE_MASK) == COMPACT_FLAGGED && values[i] == 0) continue;
       ShadingPoint p{};

@@ -269,3 +269,36 @@ TEST(SoftSelective, CornerMapsCatchEdgesTheCentreMapCannotSee) {
 
 }  // namespace
 }  // namespace penumbra::test
+
+namespace penumbra::test {
+namespace {
+
+// Shadow maps read as sampled images or from their storage-buffer copies (--shadow-reads): the
+// same texels, so every method that reads them gives the same answers bit for bit, hard and soft,
+// on one face (courtyard) and a cube (room), with the thin mask and the penumbra pyramid.
+TEST(ShadowReads, BufferCopyGivesTheTextureAnswers) {
+  using Reads = raster::ShadowMapSettings::Reads;
+  for (const char* spec : {"builtin:courtyard", "builtin:room"}) {
+    for (float size : {0.0f, 0.1f}) {  // fraction of the scene radius
+      RenderSettings settings = smallSettings(96, 512);
+      settings.spp = 4;
+      settings.pip.penumbraMaps = size > 0.0f ? 5 : 1;
+      settings.shadowMap.reads = Reads::Texture;
+      SceneRun texture(spec, settings);
+      settings.shadowMap.reads = Reads::Buffer;
+      SceneRun buffer(spec, settings);
+      texture.light.size = buffer.light.size = size * texture.scene.bounds().radius();
+      for (const char* method : {"sm", "pcf", "pcss", "msm", "srt"}) {
+        SCOPED_TRACE(std::string(spec) + " light " + std::to_string(size) + " " + method);
+        const Frame a = texture.render(method);
+        const Frame b = buffer.render(method);
+        EXPECT_EQ(a.visibility, b.visibility);
+        EXPECT_EQ(a.pip, b.pip);
+      }
+    }
+  }
+  expectValidationSilent();
+}
+
+}  // namespace
+}  // namespace penumbra::test

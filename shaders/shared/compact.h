@@ -1,7 +1,10 @@
-// Compaction (hybrid/compact_pass): per-pixel trace flags -> dense, pixel-ordered ShadingPoints.
+// Compaction (hybrid/compact_pass): per-pixel trace flags -> dense, tile-ordered ShadingPoints.
+// Pixels are enumerated in tiles of COMPACT_TILE_W x COMPACT_TILE_H (one mask word, 32 pixels), the
+// tiles row by row, so that neighbouring points in the list - one warp of the trace kernel - come
+// from neighbouring pixels and share their BVH nodes (coherent ray order; compactPixel).
 // Three dispatches, reduce-then-scan:
-//   compact_scan    one workgroup per block of COMPACT_BLOCK_PIXELS pixels: each invocation packs
-//                   its COMPACT_ITEMS consecutive pixels into a selection bitmask word, the group
+//   compact_scan    one workgroup per block of COMPACT_BLOCK_PIXELS items: each invocation packs
+//                   its tile (COMPACT_ITEMS pixels) into a selection bitmask word, the group
 //                   reduces the bit counts to the block's total
 //   compact_blocks  one workgroup: exclusive scan of the block totals (in place), the count and
 //                   the indirect dispatch size of the trace kernel
@@ -13,7 +16,9 @@
 PN_BEGIN
 
 #define COMPACT_GROUP_SIZE 256  // invocations per workgroup of every compaction dispatch
-#define COMPACT_ITEMS 32        // consecutive pixels per invocation: one selection mask word
+#define COMPACT_ITEMS 32        // pixels per invocation: one tile, one selection mask word
+#define COMPACT_TILE_W 8
+#define COMPACT_TILE_H 4
 #define COMPACT_BLOCK_PIXELS (COMPACT_GROUP_SIZE * COMPACT_ITEMS)  // 8192
 
 #define COMPACT_FLAGGED 0u      // pixels with traceFlags[pixel] != 0 (srt)
@@ -37,10 +42,21 @@ PN_BEGIN
 
 struct CompactPush {
   uint mode;        // COMPACT_FLAGGED / COMPACT_ALL_COVERED, optionally | COMPACT_SHARED_SCAN
-  uint pixelCount;  // width * height
-  uint width;       // pixel index -> (x, y)
-  uint blockCount;  // ceil(pixelCount / COMPACT_BLOCK_PIXELS)
+  uint width;       // of the image
+  uint height;
+  uint blockCount;  // ceil(tiles * COMPACT_ITEMS / COMPACT_BLOCK_PIXELS)
 };
+
+// Tiles per image row.
+PN_FN uint compactTilesX(uint width) { return (width + COMPACT_TILE_W - 1u) / COMPACT_TILE_W; }
+
+// The pixel (x, y) of list item `item` (tile item / COMPACT_ITEMS, row-major within the tile); it
+// may lie past the image's right or bottom edge in the last tile column or row.
+PN_FN uvec2 compactPixel(uint item, uint tilesX) {
+  uint tile = item / COMPACT_ITEMS;
+  uint lane = item % COMPACT_ITEMS;
+  return uvec2((tile % tilesX) * COMPACT_TILE_W + lane % COMPACT_TILE_W, (tile / tilesX) * COMPACT_TILE_H + lane / COMPACT_TILE_W);
+}
 
 PN_END
 #endif

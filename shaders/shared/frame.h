@@ -27,7 +27,7 @@ struct ShadowMapInfo {
   float normalOffset;  // receiver offset along its normal, in texels
   float nearPlane;     // of every face: NDC depth 0 ..
   float farPlane;      // .. NDC depth 1 (linear for ortho, perspective otherwise)
-  float pad0;
+  uint texelBuffer;    // 1: compute passes read the maps' texel buffers, not the images (light_texels.glsl)
 };
 
 // std430.

@@ -21,7 +21,7 @@ PN_FN uint pyramidOffset(uint resolution, uint faceCount, uint level) {
   return offset;
 }
 
-struct PyramidPush {  // 32 bytes
+struct PyramidPush {  // 48 bytes
   uint level;       // the level this dispatch writes (>= 1)
   uint resolution;  // of level 0
   uint faceCount;
@@ -29,6 +29,8 @@ struct PyramidPush {  // 32 bytes
   uint kind;        // SHADOW_* of the map, for linear depths
   float nearPlane, farPlane;
   float deltaThreshold;  // linear depth edge threshold (as PipPush.deltaThreshold)
+  uint texelBuffer;      // ShadowMapInfo::texelBuffer
+  uint pad0, pad1, pad2;
 };
 
 PN_END

@@ -1,4 +1,4 @@
-// A shading point as tracers consume it: one per covered pixel (or per PIP pixel), in pixel order.
+// A shading point as tracers consume it: one per covered pixel (or per PIP pixel), in tile order (shared/compact.h).
 #ifndef PENUMBRA_SHARED_SHADING_POINT_H
 #define PENUMBRA_SHARED_SHADING_POINT_H
 #include "shared/glsl_cpp.h"
