@@ -91,6 +91,10 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                  "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, "
                  "far cheaper on lavapipe), or auto (buffer on CPU devices)")
       ->capture_default_str()->check(CLI::IsMember({"auto", "texture", "buffer"}));
+  app.add_option("--light-fit", c.lightFit,
+                 "Directional and spot lights (point-like): fit the shadow map to what the camera sees (view) or to "
+                 "the whole scene (scene)")
+      ->capture_default_str()->check(CLI::IsMember({"view", "scene"}));
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_option("--tracer", c.tracer,
                  "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
@@ -197,6 +201,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.lineSpace = {c.linespaceN, c.linespaceDepth, std::uint64_t(c.linespaceBudgetMb * 1e6), c.linespaceOffset};
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.simulateBandwidth = c.simulateBandwidth;
+  s.settings.fitLightToView = c.lightFit == "view";
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 
@@ -227,7 +232,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
-                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}}},
+                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}, {"light_fit", c.lightFit}}},
           {"warnings", s.scene.warnings},
           {"device", context.deviceName()},
           {"driver", context.driverInfo()}};

@@ -58,6 +58,7 @@ nlohmann::json FrameStats::toJson() const {
                                            {"sah_growth", refit->growth},
                                            {"rebuilt", refit->rebuilt}, {"rebuilds", refit->rebuilds}}
                           : nlohmann::json(nullptr)},
+          {"light_map_zoom", orNull(lightMapZoom)},
           {"thin_pass", thinPass ? nlohmann::json{{"faces", thinPass->faces}, {"triangles", thinPass->triangles},
                                                   {"thin_triangles", thinPass->thin}, {"selection_reused", thinPass->reused}}
                                  : nlohmann::json(nullptr)},

@@ -54,6 +54,9 @@ struct FrameStats {
     bool reused = false;
   };
   std::optional<ThinPass> thinPass;
+  // The centre map's texels per whole-scene-map texel (along each axis) after fitting it to the
+  // view (Renderer fitLightToView; 1 = not narrowed).
+  std::optional<double> lightMapZoom;
   std::optional<ErrorMetrics> error;                   // vs the reference, when compared
   std::optional<ImageErrorMetrics> imageError;         // shaded image vs the reference's, when compared
   // --simulate-bandwidth (raytrace/bandwidth_model.h): DRAM bytes and 128-byte lines of the trace

@@ -25,6 +25,9 @@ class Method {
   virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;
   // Methods that run PIP classification expose its flags and sm answer in the Frame.
   virtual bool classifies() const { return false; }
+  // Methods that look up the light's centre map (Renderer::recordShadowMap): the Renderer may fit
+  // that map to the view first (RenderSettings::fitLightToView).
+  virtual bool readsShadowMap() const { return false; }
 };
 
 std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names

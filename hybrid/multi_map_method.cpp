@@ -38,6 +38,8 @@ class MultiMapMethod final : public Method {
  public:
   std::uint32_t samplesPerPixel(const RenderSettings& settings) const override { return settings.msmMaps; }
 
+  bool readsShadowMap() const override { return true; }  // for point-like lights (below)
+
   void run(Renderer& r, FrameStats& stats) override {
     const shared::FrameData& centre = r.frameData();
     // A point-like light has one sample point, the centre: one map, which is exactly sm's.
@@ -52,7 +54,8 @@ class MultiMapMethod final : public Method {
       point.position = glm::vec4(shared::lightSamplePoint(centre.light, 0u, s, k), 1.0f);
       point.size = 0.0f;
       shared::FrameData data = centre;
-      data.shadow = raster::makeShadowMapInfo(point, r.bounds(), r.settings().shadowMap);
+      // A point-like light's one map is the centre map, as sm has it (fitted to the view, if so).
+      data.shadow = k == 1 ? centre.shadow : raster::makeShadowMapInfo(point, r.bounds(), r.settings().shadowMap);
       data.shadowFilter = FILTER_NONE;
       frames_[s].upload(std::span<const shared::FrameData>(&data, 1));
       infos.push_back(data.shadow);

@@ -36,6 +36,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
       shade_(context),
       classify_(context),
       compact_(context, settings.width, settings.height),
+      lightFit_(context),
       frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
       visibility_(context, pixels(settings) * sizeof(float),
                   vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "visibility"),
@@ -185,7 +186,26 @@ void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint3
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
 }
 
+void Renderer::fitLightToView(FrameStats& stats) {
+  if (!settings_.fitLightToView || shared::isAreaLight(frameData_.light) || frameData_.shadow.faceCount != 1) return;
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    recordGBuffer(cmd);
+    timer_.begin(cmd, "light_fit");
+    lightFit_.record(cmd, gbuffer_, frameData_.shadow);
+    timer_.end(cmd);
+  });
+  gbufferRecorded_ = true;
+  // Margin: the 3x3 classification neighbourhood, the normal offset and a 5x5 PCF kernel stay on
+  // the map. Zoom limit: beyond it texels would shrink below what the depth bias was tuned for.
+  constexpr float kMarginTexels = 4.0f, kMaxZoom = 16.0f;
+  const shared::ShadowMapInfo whole = frameData_.shadow;
+  frameData_.shadow = raster::fitShadowMap(whole, lightFit_.bounds(), kMarginTexels, kMaxZoom);
+  frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
+  stats.lightMapZoom = whole.texelWorld / frameData_.shadow.texelWorld;
+}
+
 void Renderer::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
+  if (gbufferRecorded_) return;
   timer_.begin(cmd, "gbuffer");
   gbuffer_.record(cmd, geometry_, view_, cameraPosition_);
   timer_.end(cmd);
@@ -217,7 +237,10 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   timer_.reset();
 
   const auto start = std::chrono::steady_clock::now();
+  gbufferRecorded_ = false;
+  if (method->readsShadowMap()) fitLightToView(stats);
   method->run(*this, stats);
+  gbufferRecorded_ = false;
   if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     timer_.begin(cmd, "shade");

@@ -16,6 +16,7 @@
 #include "hybrid/shade_pass.h"
 #include "raster/corner_maps_pass.h"
 #include "raster/gbuffer_pass.h"
+#include "raster/light_fit_pass.h"
 #include "raster/pip_classify_pass.h"
 #include "raster/shadow_lookup_pass.h"
 #include "raster/shadow_map_pass.h"
@@ -45,6 +46,9 @@ struct RenderSettings {
   LineSpaceSettings lineSpace;       // tracer "ls" and method ls: N, depth, memory budget
   raster::PipSettings pip;
   raster::ThinTriangleSettings thin;
+  // Directional and spot lights with point-like extent: fit the centre map to the receivers the
+  // camera sees (raster/light_fit_pass.h) instead of the whole scene (false).
+  bool fitLightToView = true;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
 };
 
@@ -107,6 +111,9 @@ class Renderer {
 
  private:
   void prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp);
+  // Renders the G-buffer in a submission of its own and narrows frameData_.shadow to what it sees
+  // (when settings_.fitLightToView applies to this light).
+  void fitLightToView(FrameStats& stats);
 
   const gpu::Context& context_;
   const Scene& scene_;
@@ -118,6 +125,8 @@ class Renderer {
   ShadePass shade_;
   raster::PipClassifyPass classify_;
   CompactPass compact_;
+  raster::LightFitPass lightFit_;
+  bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::map<std::string, std::unique_ptr<Method>> methods_;  // one per name, kept: they may own GPU objects
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   std::unique_ptr<raster::ThinTrianglePass> thin_;

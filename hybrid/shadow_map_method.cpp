@@ -20,6 +20,7 @@ class ShadowMapMethod final : public Method {
     return FILTER_NONE;
   }
   std::uint32_t samplesPerPixel(const RenderSettings&) const override { return 1; }
+  bool readsShadowMap() const override { return true; }
 
   void run(Renderer& r, FrameStats& stats) override {
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {

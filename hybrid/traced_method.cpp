@@ -49,6 +49,7 @@ class TracedMethod final : public Method {
  public:
   TracedMethod(bool selective, std::string tracerName) : selective_(selective), tracerName_(std::move(tracerName)) {}
   bool classifies() const override { return selective_; }
+  bool readsShadowMap() const override { return selective_; }
 
   void run(Renderer& r, FrameStats& stats) override {
     ShadowTracer& tracer = r.tracer(stats, tracerName_);

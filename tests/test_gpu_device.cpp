@@ -50,7 +50,7 @@ TEST(GpuDevice, PerPassTimesAreReported) {
     passes.push_back(pass);
     EXPECT_GE(ms, 0.0) << pass;
   }
-  EXPECT_EQ(passes, (std::vector<std::string>{"gbuffer", "shadow_map", "lookup", "shade"}));
+  EXPECT_EQ(passes, (std::vector<std::string>{"gbuffer", "light_fit", "shadow_map", "lookup", "shade"}));
   expectValidationSilent();
 }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "core/gpu_light.h"
+#include "raster/light_fit_pass.h"
 #include "render_fixture.h"
 
 namespace penumbra::test {
@@ -87,6 +88,49 @@ TEST(KnownAnswer, ShadowMapWithinATexelOfAnalyticShadow) {
     EXPECT_LE(d.maxEdgeDistance, 2.0 * footprint) << res << "^2 map: " << d.pixels << " pixels differ";
     expectValidationSilent();
   }
+}
+
+// fitShadowMap zooms the map onto the receivers' NDC rectangle with square texels and a margin of
+// whole texels, never past maxZoom, and leaves cube maps and empty views alone.
+TEST(LightFit, ZoomsOntoReceiversWithMarginAndLimit) {
+  Bounds bounds;
+  bounds.extend({-5, 0, -5});
+  bounds.extend({5, 3, 5});
+  Light light;
+  light.type = LightType::Directional;
+  light.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  raster::ShadowMapSettings settings;
+  settings.resolution = 1024;
+  const shared::ShadowMapInfo whole = raster::makeShadowMapInfo(toGpuLight(light, bounds), bounds, settings);
+  raster::ReceiverBounds seen{{-0.2f, -0.1f}, {0.3f, 0.2f}, 100};
+  const shared::ShadowMapInfo fitted = raster::fitShadowMap(whole, seen, 4.0f, 16.0f);
+  const float zoom = whole.texelWorld / fitted.texelWorld;
+  EXPECT_NEAR(zoom, (1.0f - 8.0f / 1024.0f) / 0.25f, 1e-4f);  // the wider side (0.5) fills the map less its margin
+  // A world point whose old NDC is a corner of the rectangle lands 4 texels inside the new map on
+  // the wider axis, and inside it on the other.
+  const glm::mat4 inverse = glm::inverse(whole.viewProj[0]);
+  for (glm::vec2 corner : {seen.lo, seen.hi, glm::vec2(seen.lo.x, seen.hi.y)}) {
+    const glm::vec4 world = inverse * glm::vec4(corner, 0.5f, 1.0f);
+    const glm::vec4 clip = fitted.viewProj[0] * world;
+    const glm::vec2 texel = (glm::vec2(clip) / clip.w * 0.5f + 0.5f) * 1024.0f;
+    EXPECT_GE(std::min(texel.x, texel.y), 4.0f - 1e-2f);
+    EXPECT_LE(std::max(texel.x, texel.y), 1020.0f + 1e-2f);
+  }
+  EXPECT_EQ(fitted.nearPlane, whole.nearPlane);
+  EXPECT_EQ(fitted.farPlane, whole.farPlane);
+  // A single receiver point: the zoom stops at the limit.
+  const raster::ReceiverBounds dot{{0.1f, 0.1f}, {0.1f, 0.1f}, 1};
+  EXPECT_NEAR(whole.texelWorld / raster::fitShadowMap(whole, dot, 4.0f, 16.0f).texelWorld, 16.0f, 1e-3f);
+  // Nothing seen, or the whole map seen: unchanged.
+  EXPECT_EQ(raster::fitShadowMap(whole, {}, 4.0f, 16.0f).texelWorld, whole.texelWorld);
+  EXPECT_EQ(raster::fitShadowMap(whole, {{-1.0f, -1.0f}, {1.0f, 1.0f}, 5}, 4.0f, 16.0f).texelWorld, whole.texelWorld);
+  // A light inside the scene: a cube, never fitted.
+  Light point;
+  point.type = LightType::Point;
+  point.position = {0.0f, 1.0f, 0.0f};
+  const shared::ShadowMapInfo cube = raster::makeShadowMapInfo(toGpuLight(point, bounds), bounds, settings);
+  ASSERT_EQ(cube.faceCount, 6u);
+  EXPECT_EQ(raster::fitShadowMap(cube, seen, 4.0f, 16.0f).texelWorld, cube.texelWorld);
 }
 
 }  // namespace

@@ -87,6 +87,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SelectiveOnScene,
 TEST(Selective, ThinPassIsWhatFixesWires) {
   RenderSettings settings = settingsFor(256);
   settings.pip.thinPass = false;
+  settings.fitLightToView = false;  // whole-scene map: the wires are thinner than its texels
   SceneRun withoutThin("builtin:wires", settings);
   const Frame reference = withoutThin.render("ref");
   const Frame srt = withoutThin.render("srt");
@@ -96,12 +97,21 @@ TEST(Selective, ThinPassIsWhatFixesWires) {
   EXPECT_GT(wrong(srt, reference), 0.002) << "without the thin pass the missed wires stay missed";
   EXPECT_GT(pipMiss(srt, reference), 0.02);
 
-  SceneRun withThin("builtin:wires", settingsFor(256));
+  settings.pip.thinPass = true;
+  SceneRun withThin("builtin:wires", settings);
   const Frame fixed = withThin.render("srt");
   std::size_t thinMarked = 0;
   for (std::uint8_t f : fixed.pip) thinMarked += (f & PIP_THIN) != 0;
   EXPECT_GT(thinMarked, 100u);
   EXPECT_LE(wrong(fixed, reference), 0.001);
+
+  // The map fitted to the view (default): far fewer pixels classified, still within the bound.
+  SceneRun fittedRun("builtin:wires", settingsFor(256));
+  const Frame fitted = fittedRun.render("srt");
+  std::cout << "wires: pip whole-scene map " << *fixed.stats.pipFraction << ", fitted (zoom " << *fitted.stats.lightMapZoom
+            << ") " << *fitted.stats.pipFraction << ", wrong " << wrong(fitted, reference) << "\n";
+  EXPECT_LT(*fitted.stats.pipFraction, 0.5 * *fixed.stats.pipFraction);
+  EXPECT_LE(wrong(fitted, reference), 0.001);
   expectValidationSilent();
 }
 
