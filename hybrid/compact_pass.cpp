@@ -45,8 +45,9 @@ std::uint32_t checkedBlockCount(const gpu::Context& context, std::uint32_t width
     throw std::invalid_argument("CompactPass: image size " + sizeText(width, height) + " is empty; use at least 1x1");
   }
   // Items: whole tiles, so the last tile column and row count in full.
+  // In 64 bits: shared::compactItems would wrap for absurd sizes.
   const std::uint64_t items =
-      std::uint64_t(shared::compactTilesX(width)) * ((height + COMPACT_TILE_H - 1) / COMPACT_TILE_H) * COMPACT_ITEMS;
+      std::uint64_t(shared::compactTilesX(width)) * ((std::uint64_t(height) + COMPACT_TILE_H - 1) / COMPACT_TILE_H) * COMPACT_ITEMS;
   if (items > kMaxPixels) {
     throw std::invalid_argument("CompactPass: " + sizeText(width, height) + " has more than " +
                                 std::to_string(kMaxPixels) + " pixels; render a smaller image");
@@ -104,7 +105,9 @@ CompactPass::CompactPass(const gpu::Context& context, std::uint32_t width, std::
       points_(context, vk::DeviceSize(width) * height * sizeof(shared::ShadingPoint),
               vk::BufferUsageFlagBits::eStorageBuffer, "compact shading points"),
       count_(context, sizeof(shared::TraceCount),
-             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer, "compact trace count"),
+             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer |
+                 vk::BufferUsageFlagBits::eTransferDst,
+             "compact trace count"),
       scan_(context, compact_scan_comp, kBindings, sizeof(shared::CompactPush), "compact scan pipeline"),
       blockScan_(context, compact_blocks_comp, kBindings, sizeof(shared::CompactPush), "compact block scan pipeline"),
       scatter_(context, compact_scatter_comp, kBindings, sizeof(shared::CompactPush), "compact scatter pipeline") {}

@@ -1,10 +1,13 @@
 #include "hybrid/renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
 #include "core/gpu_light.h"
 #include "hybrid/method.h"
+#include "shared/compact.h"
+#include "shared/trace.h"
 
 namespace penumbra {
 namespace {
@@ -114,8 +117,27 @@ void Renderer::sceneMoved() {
   }
 }
 
-TraceJob Renderer::traceJob() const {
-  return {compact_.points(), compact_.count(), frameBuffer_, visibility_};
+bool Renderer::canTraceInPlace(const ShadowTracer& tracer) const {
+  const std::uint64_t groups = (std::uint64_t(shared::compactItems(settings_.width, settings_.height)) + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
+  return tracer.tracesInPlace() && !settings_.simulateBandwidth &&
+         groups <= context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0];
+}
+
+TraceJob Renderer::traceJob(bool inPlace) {
+  if (frameData_.traceInPlace != (inPlace ? 1u : 0u)) {
+    frameData_.traceInPlace = inPlace ? 1u : 0u;
+    frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));  // no submission is running
+  }
+  return {compact_.points(), compact_.count(), frameBuffer_, visibility_, gbuffer_.position().view(), gbuffer_.normal().view()};
+}
+
+void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
+  const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
+  const shared::TraceCount count{items, (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE, 1, 1};
+  cmd.updateBuffer<shared::TraceCount>(compact_.count().handle(), 0, count);
+  gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
+                     vk::PipelineStageFlagBits2::eDrawIndirect | vk::PipelineStageFlagBits2::eComputeShader,
+                     vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead);
 }
 
 void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
@@ -256,6 +278,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
   frame.visibility = visibility_.download<float>(positions.size());
   frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
+  if (frameData_.traceInPlace) stats.pipPixels = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
   if (stats.pipPixels) {
     std::uint64_t covered = 0;
     for (std::uint8_t c : frame.covered) covered += c;

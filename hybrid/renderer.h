@@ -95,7 +95,14 @@ class Renderer {
   static std::string resolveTracer(const gpu::Context& context, const std::string& name);
   // settings().tracer (or `name` when given), built on first use
   ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
-  TraceJob traceJob() const;                       // the compacted points and where results go
+  // Whether `tracer` can trace every covered pixel straight from the G-buffer (frt's best self: no
+  // compaction): a GPU tracer, no bandwidth replay (which reads the list), one dispatch row enough.
+  bool canTraceInPlace(const ShadowTracer& tracer) const;
+  // The compacted points and where results go; inPlace: the G-buffer instead (sets
+  // FrameData::traceInPlace for this frame).
+  TraceJob traceJob(bool inPlace = false);
+  // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
+  void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
 
   // Records the camera pass with its timer scope (every method starts with it).
   void recordGBuffer(const vk::raii::CommandBuffer& cmd);

@@ -1,7 +1,8 @@
 // Methods srt and frt on the chosen tracer (--tracer bvh|embree|ls), and ls: frt on the line-space tracer.
 //   srt: camera pass, light pass, thin-triangle mask, PIP classification (which also gives the sm
 //        answer), compaction of the PIP pixels, trace only those (Lauterbach et al. 2009, 3.1).
-//   frt: camera pass, compaction of every covered pixel, trace all of them.
+//   frt: camera pass, then the trace of every covered pixel: GPU tracers take them straight from the
+//        G-buffer (no compaction: frt at its best); Embree, and --simulate-bandwidth, compact them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
 #include <chrono>
 #include <string>
@@ -53,7 +54,8 @@ class TracedMethod final : public Method {
 
   void run(Renderer& r, FrameStats& stats) override {
     ShadowTracer& tracer = r.tracer(stats, tracerName_);
-    const TraceJob job = r.traceJob();
+    const bool inPlace = !selective_ && r.canTraceInPlace(tracer);
+    const TraceJob job = r.traceJob(inPlace);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
       if (selective_) {
@@ -62,7 +64,8 @@ class TracedMethod final : public Method {
         r.recordCompact(cmd, COMPACT_FLAGGED);
       } else {
         r.recordUnclassified(cmd);
-        r.recordCompact(cmd, COMPACT_ALL_COVERED);
+        if (inPlace) r.recordInPlaceCount(cmd);
+        else r.recordCompact(cmd, COMPACT_ALL_COVERED);
       }
       r.timer().begin(cmd, "trace");
       tracer.record(cmd, job);
@@ -72,7 +75,7 @@ class TracedMethod final : public Method {
     if (report.hostMs > 0.0) stats.addPass("trace", report.hostMs);
     stats.tracer = tracer.name();
     stats.raysTraced = report.rays;
-    stats.pipPixels = job.count.download<shared::TraceCount>(1).front().count;
+    if (!inPlace) stats.pipPixels = job.count.download<shared::TraceCount>(1).front().count;  // else: Renderer counts coverage
     stats.nodeVisits = report.nodeVisits;
     stats.triangleTests = report.triangleTests;
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, job, selective_, stats);

@@ -21,7 +21,9 @@ constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_NODES, vk::DescriptorTyp
                                            {3, vk::DescriptorType::eStorageBuffer},
                                            {4, vk::DescriptorType::eStorageBuffer},
                                            {5, vk::DescriptorType::eStorageBuffer},
-                                           {6, vk::DescriptorType::eStorageBuffer}};
+                                           {6, vk::DescriptorType::eStorageBuffer},
+                                           {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+                                           {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
                                           {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
                                           {BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
@@ -107,7 +109,9 @@ void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) 
                                .buffer(3, job.points)
                                .buffer(4, job.count)
                                .buffer(5, job.frame)
-                               .buffer(6, job.visibility));
+                               .buffer(6, job.visibility)
+                               .storageImage(TRACE_BINDING_POSITION, job.position)
+                               .storageImage(TRACE_BINDING_NORMAL, job.normal));
   tracePipeline_.pushConstants(cmd, shared::BvhTracePush{dynamicRoot_, 0u, 0u, 0u});
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()

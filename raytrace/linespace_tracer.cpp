@@ -18,7 +18,7 @@ namespace {
 
 // linespace_trace(.comp|_rq.comp): the moving meshes' BVH nodes and triangles, or their top level
 // and triangle ids (ray queries), in the last two slots.
-std::array<gpu::Binding, 10> bindings(bool rayQueries) {
+std::array<gpu::Binding, 12> bindings(bool rayQueries) {
   const auto storage = vk::DescriptorType::eStorageBuffer;
   return {{{LS_BINDING_TREE, storage},
            {LS_BINDING_NODES, storage},
@@ -29,7 +29,9 @@ std::array<gpu::Binding, 10> bindings(bool rayQueries) {
            {6, storage},
            {7, storage},
            {LS_BINDING_BVH_NODES, rayQueries ? vk::DescriptorType::eAccelerationStructureKHR : storage},
-           {LS_BINDING_BVH_TRIANGLES, storage}}};
+           {LS_BINDING_BVH_TRIANGLES, storage},
+           {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+           {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}}};
 }
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
 
@@ -120,7 +122,9 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
       .buffer(4, job.points)
       .buffer(5, job.count)
       .buffer(6, job.frame)
-      .buffer(7, job.visibility);
+      .buffer(7, job.visibility)
+      .storageImage(TRACE_BINDING_POSITION, job.position)
+      .storageImage(TRACE_BINDING_NORMAL, job.normal);
   if (moving_) {
     SceneAccelerationStructures::recordBuildToTrace(cmd);
     descriptors.accelerationStructure(LS_BINDING_BVH_NODES, moving_->top())

@@ -29,6 +29,7 @@ class LineSpaceTracer final : public ShadowTracer {
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings = {});
 
   std::string name() const override { return "ls"; }
+  bool tracesInPlace() const override { return true; }
   // Resets the counters and records the indirect trace, with the same barriers as BvhTracer.
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
   TraceReport finish(const TraceJob& job) override;  // rays and node visits of the last record()

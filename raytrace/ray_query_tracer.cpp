@@ -21,7 +21,9 @@ constexpr gpu::Binding kTraceBindings[] = {{RQ_BINDING_SCENE, Type::eAcceleratio
                                            {3, Type::eStorageBuffer},
                                            {4, Type::eStorageBuffer},
                                            {5, Type::eStorageBuffer},
-                                           {6, Type::eStorageBuffer}};
+                                           {6, Type::eStorageBuffer},
+                                           {TRACE_BINDING_POSITION, Type::eStorageImage},
+                                           {TRACE_BINDING_NORMAL, Type::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
                                           {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
                                           {RQ_BINDING_COUNTERS, Type::eStorageBuffer},
@@ -58,7 +60,9 @@ void RayQueryTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& 
                                .buffer(3, job.points)
                                .buffer(4, job.count)
                                .buffer(5, job.frame)
-                               .buffer(6, job.visibility));
+                               .buffer(6, job.visibility)
+                               .storageImage(TRACE_BINDING_POSITION, job.position)
+                               .storageImage(TRACE_BINDING_NORMAL, job.normal));
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
 }

@@ -13,8 +13,11 @@ namespace penumbra {
 struct TraceJob {
   const gpu::Buffer& points;      // shared::ShadingPoint[capacity]; the first `count` are valid
   const gpu::Buffer& count;       // shared::TraceCount (count + indirect dispatch size)
-  const gpu::Buffer& frame;       // shared::FrameData (the light)
+  const gpu::Buffer& frame;       // shared::FrameData (the light; traceInPlace)
   const gpu::Buffer& visibility;  // float per pixel; the tracer writes visibility[point.pixel]
+  // The G-buffer's position and normal (storage images, GENERAL): GPU tracers bind them and trace
+  // every covered pixel from them instead of the list when FrameData::traceInPlace is set.
+  vk::ImageView position, normal;
 };
 
 struct TraceReport {
@@ -43,6 +46,8 @@ class ShadowTracer {
  public:
   virtual ~ShadowTracer() = default;
   virtual std::string name() const = 0;  // "bvh", "embree", ...
+  // GPU tracers can take their points straight from the G-buffer (TraceJob, trace_points.glsl).
+  virtual bool tracesInPlace() const { return false; }
   // GPU tracers record their trace here (before the submission); CPU tracers record nothing.
   virtual void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) = 0;
   // After the submission completed: CPU tracers trace here; every tracer reports its counters.

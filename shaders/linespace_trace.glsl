@@ -31,6 +31,7 @@ layout(std430, binding = 4) readonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 5) readonly buffer Count { TraceCount traceCount; };
 layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 7) writeonly buffer Visibility { float visibility[]; };
+#include "trace_points.glsl"
 
 // The line space answers from where the ray is startOffset above the surface on (see LsPush); the
 // moving meshes' trace is exact, so it takes the whole segment, as bvh_trace.comp does.
@@ -43,10 +44,8 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
 void main() {
   uint index = gl_GlobalInvocationID.x;
   uint rays = 0u;
-  if (index < traceCount.count) {
-    ShadingPoint point = points[index];
-    visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
-  }
+  ShadingPoint point;
+  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
 #ifndef LS_MOVING_RAY_QUERY
   lsNodeVisits += bvhNodeVisits;  // the dynamic BVH's visits count as traversal steps too
 #endif

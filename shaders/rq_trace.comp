@@ -14,6 +14,7 @@ layout(std430, binding = 3) readonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+#include "trace_points.glsl"
 
 bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
   return rqTrace(origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;
@@ -22,9 +23,7 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
 void main() {
   uint index = gl_GlobalInvocationID.x;
   uint rays = 0u;
-  if (index < traceCount.count) {
-    ShadingPoint point = points[index];
-    visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
-  }
+  ShadingPoint point;
+  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
   rqAddRays(rays);
 }

@@ -354,7 +354,15 @@ TEST(BvhTracer, ShadowRaysMatchEmbreeTracer) {
   gpu::Buffer count(context, sizeof(shared::TraceCount), Usage::eStorageBuffer | Usage::eIndirectBuffer, "test count");
   gpu::Buffer frame(context, sizeof(shared::FrameData), Usage::eStorageBuffer, "test frame");
   gpu::Buffer visibility(context, primary.size() * sizeof(float), Usage::eStorageBuffer, "test visibility");
-  const TraceJob job{points, count, frame, visibility};
+  // The job traces this list, never in place; the G-buffer bindings still need an image each.
+  const gpu::Image unread(context, {.format = vk::Format::eR32G32B32A32Sfloat, .usage = vk::ImageUsageFlagBits::eStorage,
+                                    .name = "test unread G-buffer"});
+  context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    gpu::transition(cmd, unread, {vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral, vk::PipelineStageFlagBits2::eNone,
+                                  vk::AccessFlagBits2::eNone, vk::PipelineStageFlagBits2::eComputeShader,
+                                  vk::AccessFlagBits2::eShaderStorageRead});
+  });
+  const TraceJob job{points, count, frame, visibility, unread.view(), unread.view()};
 
   Light point = scene.lights.front(), area = point;
   point.type = LightType::Point;

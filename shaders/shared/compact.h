@@ -50,6 +50,11 @@ struct CompactPush {
 // Tiles per image row.
 PN_FN uint compactTilesX(uint width) { return (width + COMPACT_TILE_W - 1u) / COMPACT_TILE_W; }
 
+// List items of a width x height image: whole tiles.
+PN_FN uint compactItems(uint width, uint height) {
+  return compactTilesX(width) * ((height + COMPACT_TILE_H - 1u) / COMPACT_TILE_H) * COMPACT_ITEMS;
+}
+
 // The pixel (x, y) of list item `item` (tile item / COMPACT_ITEMS, row-major within the tile); it
 // may lie past the image's right or bottom edge in the last tile column or row.
 PN_FN uvec2 compactPixel(uint item, uint tilesX) {

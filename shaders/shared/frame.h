@@ -39,6 +39,8 @@ struct FrameData {
   uint height;
   uint spp;
   uint shadowFilter;  // FILTER_* for the lookup pass
+  uint traceInPlace;  // 1: trace kernels take every covered pixel from the G-buffer, not the compacted list
+  uint pad0, pad1, pad2;
 };
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).

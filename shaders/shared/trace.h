@@ -8,6 +8,11 @@ PN_BEGIN
 
 #define TRACE_GROUP_SIZE 64  // invocations per workgroup of every trace kernel (one point each)
 
+// Every shadow-ray kernel also binds the G-buffer (rgba32f storage images), read when it traces in
+// place (FrameData::traceInPlace: frt on a GPU tracer, no compaction; trace_points.glsl).
+#define TRACE_BINDING_POSITION 10
+#define TRACE_BINDING_NORMAL 11
+
 // std430, 16 bytes. groupsX/Y/Z is a VkDispatchIndirectCommand at byte offset 4.
 struct TraceCount {
   uint count;    // valid points

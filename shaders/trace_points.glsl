@@ -1,0 +1,28 @@
+// The shading points of a shadow-ray kernel (after `frame`, `points`, `traceCount` are declared):
+// the compacted list, or - when the frame traces in place (frt on a GPU tracer) - every covered
+// pixel read from the G-buffer, enumerated in the compaction's tile order so that a warp still
+// traces neighbouring pixels. The dispatch covers traceCount.groupsX groups either way.
+#include "shared/compact.h"
+#include "shared/trace.h"
+layout(binding = TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = TRACE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+
+// The index-th point, or false when there is none (past the list, off the image, or sky).
+bool tracePoint(uint index, out ShadingPoint point) {
+  if (frame.traceInPlace == 0u) {
+    if (index >= traceCount.count) return false;
+    point = points[index];
+    return true;
+  }
+  uvec2 pix = compactPixel(index, compactTilesX(frame.width));
+  if (pix.x >= frame.width || pix.y >= frame.height) return false;
+  vec4 position = imageLoad(gPosition, ivec2(pix));
+  if (position.w == 0.0) return false;
+  point.position = position.xyz;
+  point.pixel = pix.y * frame.width + pix.x;
+  point.normal = imageLoad(gNormal, ivec2(pix)).xyz;
+  point.spp = frame.spp;
+  point.rayMax = 0.0;
+  point.pad0 = point.pad1 = point.pad2 = 0u;
+  return true;
+}
