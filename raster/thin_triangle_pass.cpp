@@ -143,13 +143,13 @@ vk::DeviceSize ThinTrianglePass::bytes() const {
 
 void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
                               const shared::ShadowMapInfo& info) {
-  Selection key{&geometry, geometry.version(), {}};
+  Selection key{&geometry, geometry.version(), info.texelWorld, {}};
   for (std::uint32_t face = 0; face < info.faceCount; ++face) key.viewProj[face] = info.viewProj[face];
   reused_ = selection_ == key;
-  if (!reused_) {
-    recordSelection(cmd, geometry, info);
-    selection_ = key;
-  }
+  // The mask depends on nothing else: the last one (image and texel copy) still holds.
+  if (reused_) return;
+  recordSelection(cmd, geometry, info);
+  selection_ = key;
   recordLightFaces(cmd, depth_, info, [&](std::uint32_t face) {
     pipeline_.bind(cmd, gpu::Descriptors{});
     pipeline_.pushConstants(cmd, pushFor(info, face, thin_));

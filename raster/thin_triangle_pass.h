@@ -6,7 +6,7 @@
 // triangles touching it. Receivers behind a covered texel are potentially incorrect and get traced.
 // The mask is dilated by THIN_DILATE_TEXELS (shared/thin.h): classification reads one texel for its
 // 3x3 neighbourhood. Only thin triangles are drawn: a compute pass (thin_select.comp) lists them
-// per face, and the list is kept while the faces' matrices and the geometry stay the same.
+// per face; list and mask are kept while the faces' matrices and the geometry stay the same.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -43,8 +43,9 @@ class ThinTrianglePass {
   // Renders info.faceCount faces into the mask (cleared to 1.0, depth test LESS, no bias: the mask
   // must never be farther than the triangle). A thin triangle writes the minimum NDC depth of its
   // (near-clipped) corners to every texel within THIN_DILATE_TEXELS of a texel its square touches.
-  // Selects the thin triangles first unless the last selection was for the same faces and geometry
-  // version. Leaves the mask in SHADER_READ_ONLY layout for compute reads.
+  // Selects the thin triangles first; when the last record was for the same faces and geometry
+  // version, records nothing: that mask still holds. Leaves the mask in SHADER_READ_ONLY layout for
+  // compute reads (a caller that changes the layout must restore it).
   void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const shared::ShadowMapInfo& info);
   // After the recorded frame ran: thin triangles summed over faces, and whether record() reused the
   // previous selection.
@@ -70,6 +71,7 @@ class ThinTrianglePass {
   struct Selection {
     const SceneGeometry* geometry;
     std::uint64_t version;
+    float texelWorld;
     std::array<glm::mat4, SHADOW_MAX_FACES> viewProj;
     bool operator==(const Selection&) const = default;
   };

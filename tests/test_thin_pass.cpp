@@ -285,6 +285,8 @@ TEST(ThinTrianglePass, SelectionListsThinTrianglesIsReusedAndOverflowsSafely) {
       gpu::transition(cmd, pass.depth(), {vk::ImageLayout::eShaderReadOnlyOptimal, vk::ImageLayout::eGeneral,
                                           Stage::eComputeShader, Access::eNone, Stage::eCopy, Access::eTransferRead});
       gpu::copyImageToBuffer(cmd, pass.depth(), readback);
+      gpu::transition(cmd, pass.depth(), {vk::ImageLayout::eGeneral, vk::ImageLayout::eShaderReadOnlyOptimal,
+                                          Stage::eCopy, Access::eNone, Stage::eComputeShader, Access::eShaderSampledRead});
     });
     return readback.download<float>(std::size_t(kRes) * kRes);
   };
