@@ -16,30 +16,44 @@ layout(push_constant) uniform PushBlock { PyramidPush push; };
 
 float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane, push.farPlane, z); }
 
-// The blocker depth of texel q if it is an edge texel, else 1.
-float edgeTexel(ivec2 q, uint face) {
+// Level 1: the nearest blocker depth of the edge texels among the 2x2 texels from q (1 = none). A
+// texel is an edge texel when its 3x3 neighbourhood (clamped to the face) spans more than the
+// threshold; its blocker depth is the neighbourhood's minimum. The four neighbourhoods share one
+// 4x4 window of loads (16 instead of 36).
+float edgeTile(ivec2 q, uint face) {
   int res = int(push.resolution);
-  if (q.x >= res || q.y >= res) return 1.0;  // outside: neutral for the minimum
   bool texelBuffer = push.texelBuffer != 0u;
-  float depth = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, q, face, res);
-  float s = linearDepth(depth);
-  float nearest = depth;
-  float delta = 0.0;
-  for (int y = -1; y <= 1; ++y) {
-    for (int x = -1; x <= 1; ++x) {
-      ivec2 r = clamp(q + ivec2(x, y), ivec2(0), ivec2(res - 1));
-      float other = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, r, face, res);
-      delta = max(delta, abs(linearDepth(other) - s));
-      nearest = min(nearest, other);
+  float raw[16], lin[16];
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 4; ++x) {
+      ivec2 r = clamp(q + ivec2(x - 1, y - 1), ivec2(0), ivec2(res - 1));
+      raw[y * 4 + x] = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, r, face, res);
+      lin[y * 4 + x] = linearDepth(raw[y * 4 + x]);
     }
   }
-  float blocker = delta > push.deltaThreshold ? nearest : 1.0;
-  if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, q, face, res));
-  return blocker;
+  float tile = 1.0;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      ivec2 c = q + ivec2(i, j);
+      if (c.x >= res || c.y >= res) continue;  // outside: neutral for the minimum
+      float s = lin[(j + 1) * 4 + i + 1];
+      float nearest = raw[(j + 1) * 4 + i + 1];
+      float delta = 0.0;
+      for (int y = 0; y < 3; ++y) {
+        for (int x = 0; x < 3; ++x) {
+          delta = max(delta, abs(lin[(j + y) * 4 + i + x] - s));
+          nearest = min(nearest, raw[(j + y) * 4 + i + x]);
+        }
+      }
+      float blocker = delta > push.deltaThreshold ? nearest : 1.0;
+      if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, c, face, res));
+      tile = min(tile, blocker);
+    }
+  }
+  return tile;
 }
 
 float below(ivec2 q, uint face) {
-  if (push.level == 1u) return edgeTexel(q, face);
   uint dim = pyramidDim(push.resolution, push.level - 1u);
   if (uint(q.x) >= dim || uint(q.y) >= dim) return 1.0;
   uint base = pyramidOffset(push.resolution, push.faceCount, push.level - 1u);
@@ -51,6 +65,6 @@ void main() {
   uvec3 id = gl_GlobalInvocationID;
   if (id.x >= dim || id.y >= dim || id.z >= push.faceCount) return;
   ivec2 q = 2 * ivec2(id.xy);
-  float nearest = min(min(below(q, id.z), below(q + ivec2(1, 0), id.z)), min(below(q + ivec2(0, 1), id.z), below(q + ivec2(1, 1), id.z)));
+  float nearest = push.level == 1u ? edgeTile(q, id.z) : min(min(below(q, id.z), below(q + ivec2(1, 0), id.z)), min(below(q + ivec2(0, 1), id.z), below(q + ivec2(1, 1), id.z)));
   tiles[pyramidOffset(push.resolution, push.faceCount, push.level) + (id.z * dim + id.y) * dim + id.x] = nearest;
 }

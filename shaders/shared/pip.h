@@ -5,6 +5,7 @@
 PN_BEGIN
 
 #define PIP_GROUP_SIZE 8  // 8x8 pixels per workgroup
+#define PIP_WINDOW_TILES 4  // penumbra-mask windows are read at the pyramid level that makes them at most this many tiles wide
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
