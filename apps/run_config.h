@@ -41,7 +41,7 @@ struct RunConfig {
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";
   std::string shadowReads = "auto";
-  std::string lightFit = "view";
+  std::string lightFit = "scene";
   bool validate = false;
   bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
   std::string outDir = "out";

@@ -47,8 +47,9 @@ struct RenderSettings {
   raster::PipSettings pip;
   raster::ThinTriangleSettings thin;
   // Directional and spot lights with point-like extent: fit the centre map to the receivers the
-  // camera sees (raster/light_fit_pass.h) instead of the whole scene (false).
-  bool fitLightToView = true;
+  // camera sees (raster/light_fit_pass.h) instead of the whole scene (false, the default: the
+  // finer texels halve PIP but let srt miss more along grazing edges, bench/results/passes.md).
+  bool fitLightToView = false;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
 };
 

@@ -11,6 +11,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eCombinedImageSamp
                                       {3, vk::DescriptorType::eStorageBuffer},
                                       {4, vk::DescriptorType::eStorageBuffer}};
 
+static_assert(sizeof(shared::PyramidPush) == 48, "PyramidPush must match std430 in shared/pyramid.h");
+
 // Levels until one tile covers the whole face.
 std::uint32_t levelCount(std::uint32_t resolution) {
   std::uint32_t levels = 1;

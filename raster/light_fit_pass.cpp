@@ -9,6 +9,8 @@ namespace penumbra::raster {
 namespace {
 
 constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage}, {1, vk::DescriptorType::eStorageBuffer}};
+static_assert(sizeof(shared::LightFitPush) == 80 && sizeof(shared::LightFitBounds) == 32,
+              "light fit structs must match std430 in shared/light_fit.h");
 
 }  // namespace
 

@@ -16,6 +16,7 @@ namespace penumbra::raster {
 namespace {
 
 static_assert(sizeof(shared::ThinTrianglePush) == 80, "ThinTrianglePush must match std430 in shared/thin.h");
+static_assert(sizeof(shared::ThinSelectPush) == 96, "ThinSelectPush must match std430 in shared/thin.h");
 
 const ThinTriangleSettings& checked(const gpu::Context& context, const ThinTriangleSettings& thin) {
   if (!context.physicalDevice().getFeatures().geometryShader) {

@@ -100,27 +100,19 @@ vec3 splatWindow(vec3 p, mat4 viewProj, ivec2 t, float d, float z, out ivec2 lo,
 }
 
 // Area lights: .x = 1 when an edge texel nearer to the light than the receiver p (depth d, texel
-// t) lies in its own splat window window(z_e), i.e. the edge's splat covers the pixel; .y = 1 when
-// a window leaves the face. Windows shrink as z grows (the cone from p to the light narrows), so
-// such an edge lies in window(z) for every z <= z_e: starting from the near plane, z_{k+1} = the
-// nearest edge in window(z_k) never passes z_e. Once it reaches d the pixel is out (sound); a z
-// that stops growing is an edge in its own window (in, up to the pyramid's tile size); after
-// kMaxRefinements the pixel stays in (conservative).
-const int kMaxRefinements = 6;
+// t) lies in its splat window, i.e. the edge's splat covers the pixel; .y = 1 when the window
+// leaves the face. The first window assumes the nearest possible edge; the nearest edge found in
+// it bounds the second.
 vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
   ivec2 lo, hi;
-  float z = frame.shadow.nearPlane;
-  float seam = 0.0;
-  for (int k = 0; k < kMaxRefinements; ++k) {
-    if (splatWindow(p, viewProj, t, d, z, lo, hi).z > 0.0) return vec2(1.0, 1.0);
-    vec2 nearest = nearestEdgeIn(lo, hi, face);
-    seam = max(seam, nearest.y);
-    float next = linearDepth(nearest.x);
-    if (next >= d - push.depthMargin) return vec2(0.0, seam);
-    if (next <= z) break;  // the nearest edge lies in its own window
-    z = next;
-  }
-  return vec2(1.0, seam);
+  float zNear = frame.shadow.nearPlane;
+  if (splatWindow(p, viewProj, t, d, zNear, lo, hi).z > 0.0) return vec2(1.0, 1.0);
+  vec2 wide = nearestEdgeIn(lo, hi, face);
+  float z1 = max(linearDepth(wide.x), zNear);
+  if (z1 >= d - push.depthMargin) return vec2(0.0, wide.y);
+  if (splatWindow(p, viewProj, t, d, z1, lo, hi).z > 0.0) return vec2(1.0, 1.0);
+  vec2 window = nearestEdgeIn(lo, hi, face);
+  return vec2(linearDepth(window.x) < d - push.depthMargin ? 1.0 : 0.0, window.y);
 }
 
 void write(uint index, float vis, uint flags, float maxDistance) {

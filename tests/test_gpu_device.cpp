@@ -50,6 +50,13 @@ TEST(GpuDevice, PerPassTimesAreReported) {
     passes.push_back(pass);
     EXPECT_GE(ms, 0.0) << pass;
   }
+  EXPECT_EQ(passes, (std::vector<std::string>{"gbuffer", "shadow_map", "lookup", "shade"}));
+  // Fitted to the view, the camera pass runs first and the fit gets its own row.
+  RenderSettings fitted = smallSettings(64, 256);
+  fitted.fitLightToView = true;
+  SceneRun fittedRun("builtin:square", fitted);
+  passes.clear();
+  for (const auto& [pass, ms] : fittedRun.render("sm").stats.passMs) passes.push_back(pass);
   EXPECT_EQ(passes, (std::vector<std::string>{"gbuffer", "light_fit", "shadow_map", "lookup", "shade"}));
   expectValidationSilent();
 }

@@ -40,7 +40,6 @@ TEST(SceneAccuracy, CourtyardShadowMapCloseToReference) {
 
 TEST(SceneAccuracy, WiresDefeatTheShadowMap) {
   RenderSettings settings = smallSettings(256, 2048);
-  settings.fitLightToView = false;  // the whole-scene map, whose texels are wider than the wires
   SceneRun run("builtin:wires", settings);
   const Frame reference = run.render("ref");
   const double refShadowed = shadowedFraction(reference);
@@ -53,7 +52,7 @@ TEST(SceneAccuracy, WiresDefeatTheShadowMap) {
   // dotted row of texel-sized blobs, wrong over more than half of the true shadow's area.
   EXPECT_GT(error.wrongPixelFraction, 0.5 * refShadowed);
 
-  // Fitted to the view (the default), the map's texels shrink by its zoom and sm misses far less,
+  // Fitted to the view (--light-fit view), the map's texels shrink by its zoom and sm misses far less,
   // though the thinnest wires still fall between texel centres.
   settings.fitLightToView = true;
   SceneRun fitted("builtin:wires", settings);

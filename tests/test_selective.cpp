@@ -87,7 +87,6 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SelectiveOnScene,
 TEST(Selective, ThinPassIsWhatFixesWires) {
   RenderSettings settings = settingsFor(256);
   settings.pip.thinPass = false;
-  settings.fitLightToView = false;  // whole-scene map: the wires are thinner than its texels
   SceneRun withoutThin("builtin:wires", settings);
   const Frame reference = withoutThin.render("ref");
   const Frame srt = withoutThin.render("srt");
@@ -105,8 +104,9 @@ TEST(Selective, ThinPassIsWhatFixesWires) {
   EXPECT_GT(thinMarked, 100u);
   EXPECT_LE(wrong(fixed, reference), 0.001);
 
-  // The map fitted to the view (default): far fewer pixels classified, still within the bound.
-  SceneRun fittedRun("builtin:wires", settingsFor(256));
+  // The map fitted to the view (--light-fit view): far fewer pixels classified, still within the bound.
+  settings.fitLightToView = true;
+  SceneRun fittedRun("builtin:wires", settings);
   const Frame fitted = fittedRun.render("srt");
   std::cout << "wires: pip whole-scene map " << *fixed.stats.pipFraction << ", fitted (zoom " << *fitted.stats.lightMapZoom
             << ") " << *fitted.stats.pipFraction << ", wrong " << wrong(fitted, reference) << "\n";
