@@ -1,6 +1,7 @@
 // Edge pyramid over a light's faces (raster/depth_pyramid_pass), the penumbra mask's source: an
 // edge texel has a depth edge in its 3x3 neighbourhood (max |s - s'| > threshold, the same test
-// as for hard shadows) or a thin triangle on it; its blocker depth is the minimum depth there.
+// as for hard shadows) or a thin triangle within a texel of it (the thin mask is dilated); its
+// blocker depth is the minimum depth there.
 // Level k >= 1 holds, per tile of 2^k x 2^k texels, the minimum blocker depth of its edge texels
 // (1 = none) as a raw NDC depth. One storage buffer: levels 1..count, each faceCount * dim(k)^2
 // floats, face-major.
