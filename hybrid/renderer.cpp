@@ -278,10 +278,9 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
   frame.visibility = visibility_.download<float>(positions.size());
   frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
-  if (frameData_.traceInPlace) stats.pipPixels = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+  const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+  if (frameData_.traceInPlace) stats.pipPixels = covered;  // every covered pixel, read from the G-buffer
   if (stats.pipPixels) {
-    std::uint64_t covered = 0;
-    for (std::uint8_t c : frame.covered) covered += c;
     stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;
     if (method->classifies() && shared::isAreaLight(frameData_.light) && *stats.pipFraction > 0.75) {
       stats.notes.push_back("the penumbra mask covers " + std::to_string(int(100.0 * *stats.pipFraction)) +
@@ -297,7 +296,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   stats.refit = refit_;
   stats.memoryBytes["scene_geometry"] = geometry_.bytes();
   stats.memoryBytes["gbuffer"] = gbuffer_.bytes();
-  if (stats.pipPixels) stats.memoryBytes["ray_list"] = compact_.bytes();
+  if (stats.pipPixels && !frameData_.traceInPlace) stats.memoryBytes["ray_list"] = compact_.bytes();
   return frame;
 }
 

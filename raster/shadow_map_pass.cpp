@@ -127,7 +127,7 @@ void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeomet
     pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
     geometry.bind(cmd);
     geometry.draw(cmd);
-  }, bufferReads() ? &texels_ : nullptr);
+  }, texelCopy(texels_, depth_));
 }
 
 }  // namespace penumbra::raster

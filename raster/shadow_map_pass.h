@@ -30,6 +30,10 @@ struct ShadowMapSettings {
 bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings);
 // The texel copy of a light depth map for those reads (a 4-byte stand-in when they are off).
 gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings);
+// `texels` when it is such a copy of `depth` (not the stand-in): where recordLightFaces copies to.
+inline const gpu::Buffer* texelCopy(const gpu::Buffer& texels, const gpu::Image& depth) {
+  return texels.size() >= depth.bytes() ? &texels : nullptr;
+}
 
 // Projection(s) for `light` covering `bounds`; pure math, no GPU. forceCube: six faces even where
 // one would do (maps that must share one image layout).
@@ -44,7 +48,6 @@ class ShadowMapPass {
   const gpu::Image& depth() const { return depth_; }
   // One float per texel, face after face; a small stand-in when the passes read the image.
   const gpu::Buffer& texels() const { return texels_; }
-  bool bufferReads() const { return texels_.size() >= depth_.bytes(); }
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
 

@@ -159,7 +159,7 @@ void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeo
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_LIST * 4, 1, kDrawCommandBytes);
     cmd.bindIndexBuffer(geometry.indices().handle(), 0, vk::IndexType::eUint32);
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_ALL * 4, 1, kDrawCommandBytes);
-  }, texels_.size() >= depth_.bytes() ? &texels_ : nullptr);
+  }, texelCopy(texels_, depth_));
 }
 
 }  // namespace penumbra::raster

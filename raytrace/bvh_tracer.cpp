@@ -102,16 +102,9 @@ BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(sc
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   recordTraceStart(cmd, counters_);
-  tracePipeline_.bind(cmd, gpu::Descriptors{}
-                               .buffer(BVH_BINDING_NODES, nodes_)
-                               .buffer(BVH_BINDING_TRIANGLES, triangles_)
-                               .buffer(BVH_BINDING_COUNTERS, counters_)
-                               .buffer(3, job.points)
-                               .buffer(4, job.count)
-                               .buffer(5, job.frame)
-                               .buffer(6, job.visibility)
-                               .storageImage(TRACE_BINDING_POSITION, job.position)
-                               .storageImage(TRACE_BINDING_NORMAL, job.normal));
+  gpu::Descriptors descriptors;
+  descriptors.buffer(BVH_BINDING_NODES, nodes_).buffer(BVH_BINDING_TRIANGLES, triangles_).buffer(BVH_BINDING_COUNTERS, counters_);
+  tracePipeline_.bind(cmd, job.addTo(descriptors, 3));
   tracePipeline_.pushConstants(cmd, shared::BvhTracePush{dynamicRoot_, 0u, 0u, 0u});
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()

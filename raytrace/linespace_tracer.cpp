@@ -118,13 +118,8 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
   descriptors.buffer(LS_BINDING_TREE, tree_)
       .buffer(LS_BINDING_NODES, nodes_)
       .buffer(LS_BINDING_BITS, bits_)
-      .buffer(LS_BINDING_COUNTERS, counters_)
-      .buffer(4, job.points)
-      .buffer(5, job.count)
-      .buffer(6, job.frame)
-      .buffer(7, job.visibility)
-      .storageImage(TRACE_BINDING_POSITION, job.position)
-      .storageImage(TRACE_BINDING_NORMAL, job.normal);
+      .buffer(LS_BINDING_COUNTERS, counters_);
+  job.addTo(descriptors, 4);
   if (moving_) {
     SceneAccelerationStructures::recordBuildToTrace(cmd);
     descriptors.accelerationStructure(LS_BINDING_BVH_NODES, moving_->top())

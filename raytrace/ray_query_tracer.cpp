@@ -53,16 +53,11 @@ RayQueryTracer::RayQueryTracer(const gpu::Context& context, const Scene& scene, 
 void RayQueryTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   recordTraceStart(cmd, counters_);
   SceneAccelerationStructures::recordBuildToTrace(cmd);
-  tracePipeline_.bind(cmd, gpu::Descriptors{}
-                               .accelerationStructure(RQ_BINDING_SCENE, structures_.top())
-                               .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
-                               .buffer(RQ_BINDING_COUNTERS, counters_)
-                               .buffer(3, job.points)
-                               .buffer(4, job.count)
-                               .buffer(5, job.frame)
-                               .buffer(6, job.visibility)
-                               .storageImage(TRACE_BINDING_POSITION, job.position)
-                               .storageImage(TRACE_BINDING_NORMAL, job.normal));
+  gpu::Descriptors descriptors;
+  descriptors.accelerationStructure(RQ_BINDING_SCENE, structures_.top())
+      .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
+      .buffer(RQ_BINDING_COUNTERS, counters_);
+  tracePipeline_.bind(cmd, job.addTo(descriptors, 3));
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
 }

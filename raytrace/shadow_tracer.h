@@ -6,7 +6,9 @@
 #include <optional>
 #include <string>
 
+#include "gpu/pipeline.h"
 #include "gpu/resources.h"
+#include "shared/trace.h"
 
 namespace penumbra {
 
@@ -18,6 +20,18 @@ struct TraceJob {
   // The G-buffer's position and normal (storage images, GENERAL): GPU tracers bind them and trace
   // every covered pixel from them instead of the list when FrameData::traceInPlace is set.
   vk::ImageView position, normal;
+
+  // Adds the job to a shadow-ray kernel's descriptors: points, count, frame and visibility at
+  // firstBuffer.. firstBuffer + 3 (where each kernel declares them), the G-buffer at
+  // TRACE_BINDING_POSITION / TRACE_BINDING_NORMAL (trace_points.glsl).
+  gpu::Descriptors& addTo(gpu::Descriptors& descriptors, std::uint32_t firstBuffer) const {
+    return descriptors.buffer(firstBuffer, points)
+        .buffer(firstBuffer + 1, count)
+        .buffer(firstBuffer + 2, frame)
+        .buffer(firstBuffer + 3, visibility)
+        .storageImage(TRACE_BINDING_POSITION, position)
+        .storageImage(TRACE_BINDING_NORMAL, normal);
+  }
 };
 
 struct TraceReport {
