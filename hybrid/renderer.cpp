@@ -140,7 +140,7 @@ void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
                      vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead);
 }
 
-void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
   const bool thin = settings_.pip.thinPass;
   if (thin) {
     if (!thin_ || thin_->faceCount() != frameData_.shadow.faceCount) {
@@ -155,7 +155,9 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
         .faces = frameData_.shadow.faceCount, .triangles = scene_.triangleCount(), .reused = thin_->selectionReused()};
   }
   const raster::ThinTrianglePass* thinPass = thin ? thin_.get() : nullptr;
-  const auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
+  const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
+  auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
+  push.appendList = settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
   if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
     pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
   }
@@ -165,17 +167,18 @@ void Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
     timer_.end(cmd);
   }
-  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_};
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.points(), compact_.count()};
   timer_.begin(cmd, "classify");
   classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
   timer_.end(cmd);
-  if (shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5) {
+  if (cornerMaps) {
     if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);
     timer_.begin(cmd, "corner_maps");
     cornerMaps_->record(cmd, geometry_, gbuffer_, classify_, frameData_, bounds_, out, settings_.pip);
     timer_.end(cmd);
     stats.memoryBytes["corner_maps"] = cornerMaps_->bytes();
   }
+  return push.appendList != 0u;
 }
 
 void Renderer::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode) {
@@ -290,7 +293,12 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   if (method->classifies()) {
     const auto flags = traceFlags_.download<std::uint32_t>(positions.size());
     frame.pip.assign(flags.begin(), flags.end());
+    // The classification stored the sm answer again only where it flagged (the trace overwrites
+    // those); elsewhere the final visibility is it.
     frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+      if (flags[i] == 0u) frame.shadowMapVisibility[i] = frame.visibility[i];
+    }
   }
 
   stats.refit = refit_;

@@ -1,6 +1,7 @@
 // Methods srt and frt on the chosen tracer (--tracer bvh|embree|ls), and ls: frt on the line-space tracer.
 //   srt: camera pass, light pass, thin-triangle mask, PIP classification (which also gives the sm
-//        answer), compaction of the PIP pixels, trace only those (Lauterbach et al. 2009, 3.1).
+//        answer and appends the PIP pixels to the trace list; a compaction pass makes the list
+//        instead when corner maps add flags after it), trace only those (Lauterbach et al. 2009, 3.1).
 //   frt: camera pass, then the trace of every covered pixel: GPU tracers take them straight from the
 //        G-buffer (no compaction: frt at its best); Embree, and --simulate-bandwidth, compact them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
@@ -60,8 +61,7 @@ class TracedMethod final : public Method {
       r.recordGBuffer(cmd);
       if (selective_) {
         r.recordShadowMap(cmd, stats);
-        r.recordClassify(cmd, stats);
-        r.recordCompact(cmd, COMPACT_FLAGGED);
+        if (!r.recordClassify(cmd, stats)) r.recordCompact(cmd, COMPACT_FLAGGED);
       } else {
         r.recordUnclassified(cmd);
         if (inPlace) r.recordInPlaceCount(cmd);

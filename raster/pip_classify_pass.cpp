@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "pip_classify_comp.h"
+#include "shared/trace.h"
 
 namespace penumbra::raster {
 namespace {
@@ -12,7 +13,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
                                       {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
-                                      {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer}};
+                                      {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer},
+                                      {12, vk::DescriptorType::eStorageBuffer},       {13, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -35,6 +37,15 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
                              const PipBuffers& out, shared::PipPush push) const {
   push.pyramidLevels = pyramid.levels();
+  if (push.appendList) {  // an empty list; workgroups add to count and groupsX atomically
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eDrawIndirect | vk::PipelineStageFlagBits2::eComputeShader,
+                       vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead,
+                       vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite);
+    cmd.updateBuffer<shared::TraceCount>(out.count.handle(), 0, shared::TraceCount{0, 0, 1, 1});
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
+                       vk::PipelineStageFlagBits2::eComputeShader,
+                       vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite);
+  }
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
   pipeline_.bind(cmd, gpu::Descriptors{}
@@ -49,7 +60,9 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                           .buffer(8, out.rayMax)
                           .buffer(9, pyramid.tiles())
                           .buffer(10, shadowMap.texels())
-                          .buffer(11, thin ? thin->texels() : shadowMap.texels()));
+                          .buffer(11, thin ? thin->texels() : shadowMap.texels())
+                          .buffer(12, out.points)
+                          .buffer(13, out.count));
   pipeline_.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -1,6 +1,6 @@
 // PIP classification fused with the shadow-map lookup (see shaders/pip_classify.comp): writes the
 // sm answer for every pixel, which pixels may be wrong (trace flags, PIP_* bits) and, for hard
-// shadows, how far their shadow rays need to go.
+// shadows, how far their shadow rays need to go; optionally appends those pixels to the trace list.
 #pragma once
 #include "gpu/pipeline.h"
 #include "raster/depth_pyramid_pass.h"
@@ -16,6 +16,8 @@ struct PipSettings {
   bool thinPass = true;           // use the thin-triangle mask
   bool rayIntervals = false;      // bound hard-shadow rays by the neighbourhood's blocker depth
   std::uint32_t penumbraMaps = 1; // area lights: 1 = the centre's map, 5 = also the four corners' maps
+  bool appendList = true;         // the classification writes the trace list itself (else the compaction
+                                  // pass makes it from the flags, as it must when corner maps add flags)
 };
 
 // Per-pixel outputs the classification writes and compaction reads.
@@ -24,6 +26,10 @@ struct PipBuffers {
   const gpu::Buffer& smVisibility;  // float: sm answer, kept for pip_miss_fraction
   const gpu::Buffer& traceFlags;    // uint: PIP_* bits, 0 = keep the sm answer
   const gpu::Buffer& rayMax;        // float: shadow-ray interval end, 0 = to the light
+  // The trace list (ShadingPoint[pixels], TraceCount) that PipPush::appendList fills: written
+  // only where the flags are nonzero, like smVisibility and rayMax.
+  const gpu::Buffer& points;
+  const gpu::Buffer& count;
 };
 
 class PipClassifyPass {

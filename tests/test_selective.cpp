@@ -283,6 +283,36 @@ TEST(SoftSelective, CornerMapsCatchEdgesTheCentreMapCannotSee) {
 namespace penumbra::test {
 namespace {
 
+// The classification appends its flagged pixels to the trace list itself (PipSettings::appendList);
+// the compaction pass makes the same list from the flags. Either way the same pixels are traced
+// with the same samples: same answers, same rays, bit for bit, hard and soft, on one face and on a
+// cube; and the sm answer srt reports is the one method sm gives.
+TEST(Selective, ClassificationListsWhatCompactionLists) {
+  for (const char* spec : {"builtin:courtyard", "builtin:room"}) {
+    for (float size : {0.0f, 0.1f}) {  // fraction of the scene radius
+      RenderSettings settings = smallSettings(128, 1024);
+      settings.spp = 4;
+      settings.pip.appendList = true;
+      SceneRun appended(spec, settings);
+      settings.pip.appendList = false;
+      SceneRun compacted(spec, settings);
+      appended.light.size = compacted.light.size = size * appended.scene.bounds().radius();
+      SCOPED_TRACE(std::string(spec) + " light " + std::to_string(size));
+      const Frame a = appended.render("srt");
+      const Frame b = compacted.render("srt");
+      ASSERT_TRUE(a.stats.pipPixels && b.stats.pipPixels);
+      EXPECT_GT(*a.stats.pipPixels, 0u);
+      EXPECT_EQ(*a.stats.pipPixels, *b.stats.pipPixels);
+      EXPECT_EQ(a.stats.raysTraced, b.stats.raysTraced);
+      EXPECT_EQ(a.visibility, b.visibility);
+      EXPECT_EQ(a.pip, b.pip);
+      EXPECT_EQ(a.shadowMapVisibility, b.shadowMapVisibility);
+      if (size == 0.0f) EXPECT_EQ(a.shadowMapVisibility, appended.render("sm").visibility);
+    }
+  }
+  expectValidationSilent();
+}
+
 // Shadow maps read as sampled images or from their storage-buffer copies (--shadow-reads): the
 // same texels, so every method that reads them gives the same answers bit for bit, hard and soft,
 // on one face (courtyard) and a cube (room), with the thin mask and the penumbra pyramid.

@@ -22,7 +22,8 @@ struct PipPush {  // 32 bytes
   uint useIntervals;     // write ray intervals (hard shadows only)
   uint pyramidLevels;    // levels of the depth pyramid (area lights)
   uint cornerUnion;      // 1: a corner map's dispatch, which only ORs PIP_PENUMBRA into the flags
-  uint pad2, pad3;
+  uint appendList;       // 1: also append the flagged pixels to the trace list (no compaction pass)
+  uint pad3;
 };
 
 PN_END
