@@ -16,6 +16,7 @@
 #include "apps/tune_command.h"
 #include "core/image_io.h"
 #include "core/metrics.h"
+#include "core/miss_explainer.h"
 #include "hybrid/frame_output.h"
 #include "hybrid/method.h"
 
@@ -46,6 +47,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
   const float heatmapScale = soft ? 0.25f : 1.0f;
   std::vector<std::vector<float>> flipMaps(frames.size());  // per method: FLIP of its image vs the reference's
+  std::vector<std::optional<MissReport>> missReports(frames.size());  // --explain-misses
   if (compare) {
     for (std::size_t i = 1; i < frames.size(); ++i) {
       frames[i].stats.error = compareVisibility(frames[i].visibility, frames[0].visibility, frames[0].covered, threshold);
@@ -56,6 +58,11 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
                                                        frames[0].covered, frames[i].pip, threshold);
         if (soft) {
           frames[i].stats.penumbraMissFraction = penumbraMissFraction(frames[0].visibility, frames[0].covered, frames[i].pip);
+        }
+        if (!frames[i].pipWhy.empty()) {
+          missReports[i] = explainMisses(frames[i].shadowMapVisibility, frames[i].pip, frames[i].pipWhy,
+                                         frames[0].visibility, frames[0].covered, threshold);
+          frames[i].stats.missCauses = missCauseCounts(*missReports[i]);
         }
       }
     }
@@ -71,6 +78,10 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
     metrics["scene"]["flip_pixels_per_degree"] = FlipSettings{}.pixelsPerDegree;
     for (std::size_t i = 1; i < frames.size(); ++i) {
       writeHeatmap(config.outDir, frames[i], frames[0], heatmapScale);
+      if (missReports[i]) {
+        writePngRgba8(config.outDir + "/" + frames[i].stats.method + ".misses.png", int(frames[i].width),
+                      int(frames[i].height), missImage(*missReports[i], frames[0].covered));
+      }
       writePngRgba8(config.outDir + "/" + frames[i].stats.method + ".flip.png", int(frames[i].width),
                     int(frames[i].height), flipHeatmap(flipMaps[i], frames[0].covered));
       metrics["methods"].push_back(frames[i].stats.toJson());
@@ -112,6 +123,9 @@ int main(int argc, char** argv) {
   compare->add_option("--csv", config.csv, "Append one row per method (with machine, driver and device) to this CSV file");
   compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp)");
   compare->add_flag("--no-report", config.noReport, "Do not run report.py (report.html and its chart)");
+  compare->add_flag("--explain-misses", config.explainMisses,
+                    "Hard shadows: count why the classification left out each pixel sm gets wrong (miss_causes in "
+                    "metrics.json) and draw them (<method>.misses.png)");
   addRunOptions(*compare, config);
   BenchCommand bench(app);
   TuneCommand tune(app);

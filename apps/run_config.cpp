@@ -200,6 +200,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   }
   s.settings.lineSpace = {c.linespaceN, c.linespaceDepth, std::uint64_t(c.linespaceBudgetMb * 1e6), c.linespaceOffset};
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
+  s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
   s.settings.fitLightToView = c.lightFit == "view";
   s.settings.thin.maxWidthTexels = c.thinWidth;

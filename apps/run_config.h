@@ -37,6 +37,7 @@ struct RunConfig {
   float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored
   float pipDelta = 0.002f, pipMargin = 1.0f;
   bool noThin = false;
+  bool explainMisses = false;  // compare: why srt left out each pixel sm gets wrong (hard shadows)
   std::uint32_t penumbraMaps = 1;  // area lights: 1 or 5 shadow maps for the penumbra mask
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";

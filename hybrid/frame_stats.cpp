@@ -46,6 +46,7 @@ nlohmann::json FrameStats::toJson() const {
           {"pip_pixels", orNull(pipPixels)},
           {"pip_miss_fraction", orNull(pipMissFraction)},
           {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
+          {"miss_causes", orNull(missCauses)},
           {"notes", notes},
           {"traversal", nodeVisits ? nlohmann::json{{"node_visits", *nodeVisits},
                                                     {"triangle_tests", orNull(triangleTests)},

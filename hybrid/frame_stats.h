@@ -22,6 +22,7 @@ struct FrameStats {
   std::optional<std::uint64_t> pipPixels;       // pixels handed to the tracer
   std::optional<double> pipMissFraction;        // of the pixels sm gets wrong, those not traced (when compared)
   std::optional<double> penumbraMissFraction;   // of the reference's penumbra pixels (0 < v < 1), those not traced
+  std::optional<std::map<std::string, std::uint64_t>> missCauses;  // --explain-misses: missed pixels by cause
   std::vector<std::string> notes;               // what a reader of the numbers should know
   std::optional<std::uint64_t> nodeVisits;      // traversal steps, where the tracer counts them
   std::optional<std::uint64_t> triangleTests;

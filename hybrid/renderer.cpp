@@ -48,6 +48,8 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
       traceFlags_(context, pixels(settings) * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "trace flags"),
       rayMax_(context, pixels(settings) * sizeof(float),
               vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
+      why_(context, settings.pip.explain ? pixels(settings) * sizeof(std::uint32_t) : sizeof(std::uint32_t),
+           vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "pip why"),
       timer_(context) {}
 
 Renderer::~Renderer() = default;
@@ -167,7 +169,7 @@ bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
     timer_.end(cmd);
   }
-  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.points(), compact_.count()};
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.points(), compact_.count(), why_};
   timer_.begin(cmd, "classify");
   classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
   timer_.end(cmd);
@@ -298,6 +300,10 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
     frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
     for (std::size_t i = 0; i < flags.size(); ++i) {
       if (flags[i] == 0u) frame.shadowMapVisibility[i] = frame.visibility[i];
+    }
+    if (settings_.pip.explain && !shared::isAreaLight(frameData_.light)) {
+      const auto why = why_.download<std::uint32_t>(positions.size());
+      frame.pipWhy.assign(why.begin(), why.end());
     }
   }
 

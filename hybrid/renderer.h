@@ -61,6 +61,7 @@ struct Frame {
   std::vector<std::uint8_t> rgba;     // shaded sRGB image, width*height*4
   std::vector<std::uint8_t> pip;      // methods that classify: PIP_* flags per pixel (0 = not traced)
   std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
+  std::vector<std::uint8_t> pipWhy;        // with settings.pip.explain, hard shadows: PIP_WHY_* per pixel
   FrameStats stats;
 };
 
@@ -146,7 +147,7 @@ class Renderer {
   std::unique_ptr<RayQueryTracer> rayQuery_;
   std::unique_ptr<LineSpaceTracer> lineSpace_;
   gpu::Buffer frameBuffer_, visibility_, color_;
-  gpu::Buffer smVisibility_, traceFlags_, rayMax_;
+  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};
   ViewMatrices view_;

@@ -38,6 +38,7 @@ void CornerMapsPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeome
     push.cornerUnion = 1u;
     push.useIntervals = 0u;
     push.appendList = 0u;
+    push.explain = 0u;
     map_->record(cmd, geometry, infos[i]);
     pyramid_->record(cmd, *map_, nullptr, infos[i], push.deltaThreshold);
     classify.record(cmd, gbuffer, *map_, nullptr, *pyramid_, *frames_[i], out, push);

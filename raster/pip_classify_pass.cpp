@@ -14,7 +14,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
                                       {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
                                       {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer},
-                                      {12, vk::DescriptorType::eStorageBuffer},       {13, vk::DescriptorType::eStorageBuffer}};
+                                      {12, vk::DescriptorType::eStorageBuffer},       {13, vk::DescriptorType::eStorageBuffer},
+                                      {14, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -30,6 +31,7 @@ shared::PipPush PipClassifyPass::pushFor(const PipSettings& settings, const shar
   push.depthMargin = settings.marginTexels * std::min(texel, sceneRadius);
   push.useThin = thinMaskBound ? 1u : 0u;
   push.useIntervals = settings.rayIntervals ? 1u : 0u;
+  push.explain = settings.explain ? 1u : 0u;
   return push;
 }
 
@@ -37,6 +39,11 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
                              const PipBuffers& out, shared::PipPush push) const {
   push.pyramidLevels = pyramid.levels();
+  if (push.explain) {
+    cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite,
+                       vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
+  }
   if (push.appendList) {  // an empty list; workgroups add to count and groupsX atomically
     gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eDrawIndirect | vk::PipelineStageFlagBits2::eComputeShader,
                        vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead,
@@ -62,7 +69,8 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                           .buffer(10, shadowMap.texels())
                           .buffer(11, thin ? thin->texels() : shadowMap.texels())
                           .buffer(12, out.points)
-                          .buffer(13, out.count));
+                          .buffer(13, out.count)
+                          .buffer(14, out.why));
   pipeline_.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -18,6 +18,7 @@ struct PipSettings {
   std::uint32_t penumbraMaps = 1; // area lights: 1 = the centre's map, 5 = also the four corners' maps
   bool appendList = true;         // the classification writes the trace list itself (else the compaction
                                   // pass makes it from the flags, as it must when corner maps add flags)
+  bool explain = false;           // hard shadows: write why each unflagged pixel was left out (PIP_WHY_*)
 };
 
 // Per-pixel outputs the classification writes and compaction reads.
@@ -30,6 +31,7 @@ struct PipBuffers {
   // only where the flags are nonzero, like smVisibility and rayMax.
   const gpu::Buffer& points;
   const gpu::Buffer& count;
+  const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written with PipPush::explain (zeroed first)
 };
 
 class PipClassifyPass {

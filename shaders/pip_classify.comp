@@ -43,6 +43,7 @@ layout(std430, binding = 10) readonly buffer ShadowTexels { float shadowTexels[]
 layout(std430, binding = 11) readonly buffer ThinTexels { float thinTexels[]; };
 layout(std430, binding = 12) writeonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 13) buffer Count { TraceCount traceCount; };
+layout(std430, binding = 14) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
 #include "light_texels.glsl"
 
@@ -149,6 +150,7 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   if (!lightReaches(light, p, n, light.position.xyz)) {
     // An area light may still be partly above the receiver's tangent plane: trace those.
     bool partly = area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
+    if (push.explain != 0u && !corner) why[index] = PIP_WHY_FACING;
     return corner ? 0u : write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0, rayEnd);
   }
 
@@ -227,7 +229,8 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   float delta = max(zMax - s, s - zMin);
   zMin = min(zMin, thinDepth);
 
-  if (delta > push.deltaThreshold) {
+  bool explain = push.explain != 0u;
+  if (delta > push.deltaThreshold || explain) {
     vec3 l = directionToLight(light, p, light.position.xyz);
     float sinB = clamp(dot(n, l), 1e-4, 1.0);
     float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
@@ -237,7 +240,17 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
     float hi = d + push.depthMargin;
     bool overlaps = hi >= s - delta && lo <= s + delta;
     bool straddles = dHat < s && d > s;
-    if (overlaps || straddles) flags |= PIP_EDGE;
+    if ((overlaps || straddles) && delta > push.deltaThreshold) flags |= PIP_EDGE;
+    if (explain) {
+      uint reason = PIP_WHY_NONE;
+      if (flags == 0u) {
+        if (overlaps) reason = PIP_WHY_BIAS;
+        else if (delta > push.deltaThreshold) reason = PIP_WHY_INTERVAL;
+        else if (delta > push.depthMargin) reason = PIP_WHY_DELTA;
+        else reason = PIP_WHY_FLAT;
+      }
+      why[index] = reason;
+    }
   }
 
   float maxDistance = 0.0;

@@ -15,6 +15,18 @@ PN_BEGIN
 #define PIP_PENUMBRA 16u  // area light: a blocker edge within penumbra reach (the splat mask), or the
                           // light straddles the receiver's tangent plane
 
+// Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
+// what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.
+#define PIP_WHY_NONE 0u      // flagged, not covered, or not explained (area lights)
+#define PIP_WHY_FACING 1u    // the receiver faces away from the light: dark by rule, no map read
+#define PIP_WHY_BIAS 2u      // the map sees the receiver itself (its depth within the receiver's interval
+                             // widened by margin and spread): acne (sm dark) or a blocker within bias (sm lit)
+#define PIP_WHY_INTERVAL 3u  // a depth edge above the threshold that the receiver's interval did not reach
+#define PIP_WHY_DELTA 4u     // a depth edge below the threshold (spread above the margin)
+#define PIP_WHY_FLAT 5u      // a flat neighbourhood away from the receiver: a blocker the map lacks
+                             // (sm lit) or a gap the map closed (sm dark)
+#define PIP_WHY_COUNT 6u
+
 struct PipPush {  // 32 bytes
   float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
   float depthMargin;     // widens the receiver's depth interval [d-hat, d] on both sides (world units)
@@ -23,7 +35,7 @@ struct PipPush {  // 32 bytes
   uint pyramidLevels;    // levels of the depth pyramid (area lights)
   uint cornerUnion;      // 1: a corner map's dispatch, which only ORs PIP_PENUMBRA into the flags
   uint appendList;       // 1: also append the flagged pixels to the trace list (no compaction pass)
-  uint pad3;
+  uint explain;          // 1: write why each unflagged pixel was left out (PIP_WHY_*)
 };
 
 PN_END

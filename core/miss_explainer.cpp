@@ -1,0 +1,87 @@
+#include "core/miss_explainer.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "shared/pip.h"
+
+namespace penumbra {
+
+std::uint64_t MissReport::misses() const {
+  std::uint64_t n = 0;
+  for (std::size_t i = 1; i < counts.size(); ++i) n += counts[i];
+  return n;
+}
+
+std::string missCauseName(MissCause cause) {
+  switch (cause) {
+    case MissCause::None: return "none";
+    case MissCause::FacingAway: return "facing_away";
+    case MissCause::Acne: return "acne";
+    case MissCause::BlockerWithinBias: return "blocker_within_bias";
+    case MissCause::EdgeOutsideInterval: return "edge_outside_interval";
+    case MissCause::EdgeBelowThreshold: return "edge_below_threshold";
+    case MissCause::BlockerMissing: return "blocker_missing_from_map";
+    case MissCause::GapClosed: return "gap_closed_by_map";
+    case MissCause::Unexplained: return "unexplained";
+    case MissCause::Count: break;
+  }
+  return "?";
+}
+
+std::map<std::string, std::uint64_t> missCauseCounts(const MissReport& report) {
+  std::map<std::string, std::uint64_t> counts;
+  for (std::size_t i = 1; i < report.counts.size(); ++i) counts[missCauseName(MissCause(i))] = report.counts[i];
+  return counts;
+}
+
+namespace {
+
+MissCause causeOf(std::uint8_t why, bool smLit) {
+  switch (why) {
+    case PIP_WHY_FACING: return MissCause::FacingAway;
+    case PIP_WHY_BIAS: return smLit ? MissCause::BlockerWithinBias : MissCause::Acne;
+    case PIP_WHY_INTERVAL: return MissCause::EdgeOutsideInterval;
+    case PIP_WHY_DELTA: return MissCause::EdgeBelowThreshold;
+    case PIP_WHY_FLAT: return smLit ? MissCause::BlockerMissing : MissCause::GapClosed;
+    default: return MissCause::Unexplained;
+  }
+}
+
+}  // namespace
+
+MissReport explainMisses(std::span<const float> smVisibility, std::span<const std::uint8_t> pip,
+                         std::span<const std::uint8_t> why, std::span<const float> reference,
+                         std::span<const std::uint8_t> covered, float threshold) {
+  const std::size_t n = reference.size();
+  if (smVisibility.size() != n || pip.size() != n || why.size() != n || covered.size() != n) {
+    throw std::invalid_argument("explainMisses: buffers differ in size");
+  }
+  MissReport report;
+  report.perPixel.assign(n, MissCause::None);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!covered[i] || pip[i] || !(std::abs(smVisibility[i] - reference[i]) > threshold)) continue;
+    const MissCause cause = causeOf(why[i], smVisibility[i] > reference[i]);
+    report.perPixel[i] = cause;
+    ++report.counts[std::size_t(cause)];
+  }
+  return report;
+}
+
+std::vector<std::uint8_t> missImage(const MissReport& report, std::span<const std::uint8_t> covered) {
+  // One colour per cause, in MissCause order (None unused).
+  static constexpr std::uint8_t kColours[][3] = {{0, 0, 0},     {255, 0, 255}, {255, 140, 0}, {255, 255, 0},
+                                                 {0, 160, 255}, {0, 255, 255}, {255, 0, 0},   {0, 255, 0},
+                                                 {255, 255, 255}};
+  static_assert(std::size(kColours) == std::size_t(MissCause::Count));
+  std::vector<std::uint8_t> rgba(report.perPixel.size() * 4, 0);
+  for (std::size_t i = 0; i < report.perPixel.size(); ++i) {
+    const MissCause cause = report.perPixel[i];
+    const std::uint8_t grey = covered[i] ? 60 : 0;
+    for (int c = 0; c < 3; ++c) rgba[4 * i + c] = cause == MissCause::None ? grey : kColours[std::size_t(cause)][c];
+    rgba[4 * i + 3] = 255;
+  }
+  return rgba;
+}
+
+}  // namespace penumbra
