@@ -69,7 +69,7 @@ std::uint64_t physicalMemoryBytes() {
 }  // namespace
 
 void addRunOptions(CLI::App& app, RunConfig& c) {
-  app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, room), a .gltf/.glb or .obj file")
+  app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, room, foliage, level, knot), a .gltf/.glb or .obj file")
       ->capture_default_str();
   app.add_option("--camera", c.camera, "Camera 'ex,ey,ez:tx,ty,tz[:fovy]' (default: the scene's, else a three-quarter view)");
   app.add_option("--light", c.light, "Light 'dir:dx,dy,dz' | 'point:x,y,z' | 'spot:x,y,z:tx,ty,tz[:angle]' | 'rect:x,y,z:tx,ty,tz' | 'disk:...'");

@@ -6,6 +6,7 @@
 
 #include "core/animation.h"
 #include "core/mesh_builder.h"
+#include "core/stress_scenes.h"
 
 namespace penumbra {
 
@@ -219,7 +220,9 @@ std::string usage() {
 
 }  // namespace
 
-std::vector<std::string> builtinSceneNames() { return {"courtyard", "courtyard-moving", "wires", "square", "room"}; }
+std::vector<std::string> builtinSceneNames() {
+  return {"courtyard", "courtyard-moving", "wires", "square", "room", "foliage", "level", "knot"};
+}
 
 Scene makeBuiltinScene(const std::string& nameAndLevel) {
   std::string spec = nameAndLevel;
@@ -241,7 +244,13 @@ Scene makeBuiltinScene(const std::string& nameAndLevel) {
     }
     return name == "courtyard" ? courtyard(level) : courtyardMoving(level);
   }
-  Scene (*make)() = name == "wires" ? wires : name == "square" ? square : name == "room" ? room : nullptr;
+  Scene (*make)() = name == "wires"     ? wires
+                    : name == "square"  ? square
+                    : name == "room"    ? room
+                    : name == "foliage" ? foliageScene
+                    : name == "level"   ? levelScene
+                    : name == "knot"    ? knotScene
+                                        : nullptr;
   if (make == nullptr) {
     throw InputError("unknown built-in scene '" + name + "' (from 'builtin:" + spec + "'); " + usage());
   }

@@ -41,6 +41,8 @@ namespace penumbra {
 //            crate, a floor-to-ceiling pillar and a ball hanging on a cord above the light.
 //            Light: Point at (1.2, 2, -1); shadows land on the floor, ceiling and walls.
 //            Camera: eye (4.4, 3.2, 4.4) in a corner, target (-2, 1.2, -2), fovy 60.
+// foliage, level, knot: stress scenes (a tree of small leaves, a brush-built level with sub-texel
+//            cracks, a self-shadowing knot), documented in core/stress_scenes.h.
 Scene makeBuiltinScene(const std::string& nameAndLevel);
 std::vector<std::string> builtinSceneNames();
 

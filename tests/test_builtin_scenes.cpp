@@ -116,8 +116,9 @@ void expectWellFormed(const Scene& scene) {
 
 }  // namespace
 
-TEST(BuiltinScenes, ListsTheFiveScenes) {
-  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "room"}));
+TEST(BuiltinScenes, ListsTheEightScenes) {
+  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "room",
+                                                           "foliage", "level", "knot"}));
 }
 
 TEST(BuiltinScenes, EachIsWellFormedAndSurvivesCleaning) {
@@ -405,13 +406,13 @@ TEST(BuiltinScenes, RoomIsClosedAroundItsPointLight) {
 TEST(BuiltinScenes, RejectsUnknownNamesAndBadLevels) {
   for (const std::string bad : {"nope", "", "Courtyard", "courtyard:0", "courtyard:513", "courtyard:abc",
                                 "courtyard:", "courtyard:8x", "courtyard:-1", "courtyard:8:9", "courtyard: 8",
-                                "square:3", "wires:8", "room:", "builtin:nope"}) {
+                                "square:3", "wires:8", "room:", "builtin:nope", "knot:2", "foliage:"}) {
     try {
       makeBuiltinScene(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const InputError& e) {
       const std::string message = e.what();
-      for (const char* needed : {"courtyard", "wires", "square", "room", "LEVEL", "1..512"}) {
+      for (const char* needed : {"courtyard", "wires", "square", "room", "foliage", "level", "knot", "LEVEL", "1..512"}) {
         EXPECT_NE(message.find(needed), std::string::npos) << bad << ": " << message;
       }
     }
