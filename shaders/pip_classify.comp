@@ -6,7 +6,10 @@
 //    texel of angle a (perspective), d - w cot(b) for a texel of width w (orthographic), with
 //    sin(b) = n.L;
 //  - a thin triangle, rasterized conservatively, covering the neighbourhood in front of it;
-//  - a neighbourhood that leaves its cube face (seams are classified conservatively).
+//  - a neighbourhood that leaves its cube face (seams are classified conservatively);
+//  - beyond the paper, two cases the depth test lets through on real content (issue 17, found with
+//    compare --explain-misses): a receiver in front of an edged neighbourhood, which the map does
+//    not hold (unseen), and a surface rising beside a receiver the map sees (contact).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
@@ -227,30 +230,38 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   float zMin = linearDepth(rawMin);
   float zMax = linearDepth(rawMax);
   float delta = max(zMax - s, s - zMin);
-  zMin = min(zMin, thinDepth);
 
-  bool explain = push.explain != 0u;
-  if (delta > push.deltaThreshold || explain) {
-    vec3 l = directionToLight(light, p, light.position.xyz);
-    float sinB = clamp(dot(n, l), 1e-4, 1.0);
-    float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
-    float dHat = kind == SHADOW_ORTHO ? d - texel * cosB / sinB
-                                      : d * sinB / sin(min(frame.shadow.texelWorld + asin(sinB), 3.14159265));
-    float lo = min(dHat, d) - push.depthMargin;
-    float hi = d + push.depthMargin;
-    bool overlaps = hi >= s - delta && lo <= s + delta;
-    bool straddles = dHat < s && d > s;
-    if ((overlaps || straddles) && delta > push.deltaThreshold) flags |= PIP_EDGE;
-    if (explain) {
-      uint reason = PIP_WHY_NONE;
-      if (flags == 0u) {
-        if (overlaps) reason = PIP_WHY_BIAS;
-        else if (delta > push.deltaThreshold) reason = PIP_WHY_INTERVAL;
-        else if (delta > push.depthMargin) reason = PIP_WHY_DELTA;
-        else reason = PIP_WHY_FLAT;
-      }
-      why[index] = reason;
+  // The receiver's depth interval within its texel, [d-hat, d] (sin(a + b) expanded: no asin).
+  vec3 l = directionToLight(light, p, light.position.xyz);
+  float sinB = clamp(dot(n, l), 1e-4, 1.0);
+  float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
+  float a = frame.shadow.texelWorld;
+  float dHat = kind == SHADOW_ORTHO ? d - texel * cosB / sinB : d * sinB / (sin(a) * cosB + cos(a) * sinB);
+  float lo = min(dHat, d) - push.depthMargin;
+  float hi = d + push.depthMargin;
+  bool overlaps = hi >= s - delta && lo <= s + delta;
+  bool straddles = dHat < s && d > s;
+  if ((overlaps || straddles) && delta > push.deltaThreshold) flags |= PIP_EDGE;
+  // Unseen: the receiver lies in front of every depth of an edged neighbourhood, so the map holds
+  // no sample of it (a surface thinner than a texel, or one under grazing light that the normal
+  // offset moved off itself) and its lit answer rests on nothing.
+  if (hi < s - delta && delta > push.deltaThreshold) flags |= PIP_UNSEEN;
+  // Contact: the map does not put the receiver behind its texel's surface, yet a neighbour is
+  // nearer to the light than the receiver's own plane gets there (1.5 intervals: a neighbour's
+  // centre is at most 2.1 texels away, and the map's slope-scaled bias pushes the plane's own
+  // samples back by more than the rest). Another surface rises beside the receiver - a leaf through
+  // a leaf, a wall from a floor - and may shadow it within the bias.
+  if (s >= lo && zMin < d - 1.5 * (d - min(dHat, d))) flags |= PIP_CONTACT;
+  zMin = min(zMin, thinDepth);
+  if (push.explain != 0u) {
+    uint reason = PIP_WHY_NONE;
+    if (flags == 0u) {
+      if (overlaps) reason = PIP_WHY_BIAS;
+      else if (delta > push.deltaThreshold) reason = PIP_WHY_INTERVAL;
+      else if (delta > push.depthMargin) reason = PIP_WHY_DELTA;
+      else reason = PIP_WHY_FLAT;
     }
+    why[index] = reason;
   }
 
   float maxDistance = 0.0;

@@ -9,6 +9,8 @@
 
 #include "core/flip.h"
 #include "core/metrics.h"
+#include "core/miss_explainer.h"
+#include "shared/pip.h"
 
 namespace penumbra {
 namespace {
@@ -318,6 +320,33 @@ TEST(Flip, HeatmapRamp) {
     EXPECT_GT(sum, last);
     last = sum;
   }
+}
+
+// The miss explainer counts only covered, untraced pixels whose sm answer is wrong, and names the
+// cause from the classification's reason and the direction of the error.
+TEST(MissExplainer, CountsOnlyUntracedWrongPixelsByCause) {
+  //                                 lit-miss  dark-miss traced  right   uncovered facing  interval
+  const std::vector<float> sm = {1.0f, 0.0f, 1.0f, 1.0f, 1.0f, 0.0f, 1.0f};
+  const std::vector<float> ref = {0.0f, 1.0f, 0.0f, 1.0f, 0.0f, 1.0f, 0.0f};
+  const std::vector<std::uint8_t> covered = {1, 1, 1, 1, 0, 1, 1};
+  const std::vector<std::uint8_t> pip = {0, 0, PIP_EDGE, 0, 0, 0, 0};
+  const std::vector<std::uint8_t> why = {PIP_WHY_FLAT, PIP_WHY_FLAT, PIP_WHY_NONE, PIP_WHY_BIAS,
+                                         PIP_WHY_FLAT, PIP_WHY_FACING, PIP_WHY_INTERVAL};
+  const MissReport report = explainMisses(sm, pip, why, ref, covered, 0.5f);
+  EXPECT_EQ(report.misses(), 4u);
+  EXPECT_EQ(report.perPixel[0], MissCause::BlockerMissing);
+  EXPECT_EQ(report.perPixel[1], MissCause::GapClosed);
+  EXPECT_EQ(report.perPixel[2], MissCause::None);  // traced
+  EXPECT_EQ(report.perPixel[3], MissCause::None);  // right
+  EXPECT_EQ(report.perPixel[4], MissCause::None);  // not covered
+  EXPECT_EQ(report.perPixel[5], MissCause::FacingAway);
+  EXPECT_EQ(report.perPixel[6], MissCause::EdgeOutsideInterval);
+  const auto counts = missCauseCounts(report);
+  EXPECT_EQ(counts.at("blocker_missing_from_map"), 1u);
+  EXPECT_EQ(counts.at("gap_closed_by_map"), 1u);
+  EXPECT_EQ(counts.at("acne"), 0u);
+  EXPECT_EQ(counts.size(), std::size_t(MissCause::Count) - 1);
+  EXPECT_THROW(explainMisses(sm, pip, why, ref, std::vector<std::uint8_t>(3, 1), 0.5f), std::invalid_argument);
 }
 
 }  // namespace

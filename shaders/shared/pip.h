@@ -14,6 +14,10 @@ PN_BEGIN
 #define PIP_OUTSIDE 8u    // outside the shadow map: nothing to classify with
 #define PIP_PENUMBRA 16u  // area light: a blocker edge within penumbra reach (the splat mask), or the
                           // light straddles the receiver's tangent plane
+#define PIP_CONTACT 32u   // the map sees the receiver, but a neighbour is nearer than the receiver's
+                          // plane reaches: a surface rising beside it (contact shadow within bias)
+#define PIP_UNSEEN 64u    // a depth edge with the receiver in front of all of it: the map holds no
+                          // sample of the receiver (sub-texel, or moved off itself by the normal offset)
 
 // Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.
