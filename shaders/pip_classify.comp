@@ -128,6 +128,23 @@ vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
   return vec2(linearDepth(window.x) < d - push.depthMargin ? 1.0 : 0.0, window.y);
 }
 
+// The depth change per texel step (x, y) of the receiver's tangent plane through p (depth d, at
+// texel coordinates e0) in the map: two points on the plane, a texel apart, projected. Not finite
+// when the plane is edge-on to the light.
+vec2 receiverDepthGradient(vec3 p, vec3 n, float texel, mat4 viewProj, vec2 e0, float d) {
+  vec3 t1 = normalize(cross(n, abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+  vec3 t2 = cross(n, t1);
+  float res = float(frame.shadow.resolution);
+  vec4 c1 = viewProj * vec4(p + texel * t1, 1.0);
+  vec4 c2 = viewProj * vec4(p + texel * t2, 1.0);
+  vec2 e1 = (c1.xy / c1.w * 0.5 + 0.5) * res - e0;
+  vec2 e2 = (c2.xy / c2.w * 0.5 + 0.5) * res - e0;
+  float z1 = linearDepth(c1.z / c1.w) - d;
+  float z2 = linearDepth(c2.z / c2.w) - d;
+  // g with dot(g, e1) = z1 and dot(g, e2) = z2
+  return vec2(z1 * e2.y - z2 * e1.y, e1.x * z2 - e2.x * z1) / (e1.x * e2.y - e1.y * e2.x);
+}
+
 // Unflagged pixels keep the sm answer in `visibility`, so only flagged ones (which the trace
 // overwrites) store it again, and only they need a ray end.
 uint write(uint index, float vis, uint flags, float maxDistance, out float rayEnd) {
@@ -203,7 +220,8 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   // from the face's border read the buffer copy at fixed offsets, without bounds tests.
   float rawMin = raw;
   float rawMax = raw;
-  if (texelBuffer && all(greaterThan(t, ivec2(0))) && all(lessThan(t, ivec2(res - 1)))) {
+  bool interior = all(greaterThan(t, ivec2(0))) && all(lessThan(t, ivec2(res - 1)));
+  if (interior && texelBuffer) {
     int centre = (int(face) * res + t.y) * res + t.x;
     for (int y = -1; y <= 1; ++y) {
       for (int x = -1; x <= 1; ++x) {
@@ -246,12 +264,25 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   // no sample of it (a surface thinner than a texel, or one under grazing light that the normal
   // offset moved off itself) and its lit answer rests on nothing.
   if (hi < s - delta && delta > push.deltaThreshold) flags |= PIP_UNSEEN;
-  // Contact: the map does not put the receiver behind its texel's surface, yet a neighbour is
-  // nearer to the light than the receiver's own plane gets there (1.5 intervals: a neighbour's
-  // centre is at most 2.1 texels away, and the map's slope-scaled bias pushes the plane's own
-  // samples back by more than the rest). Another surface rises beside the receiver - a leaf through
-  // a leaf, a wall from a floor - and may shadow it within the bias.
+  // Contact: the map does not put the receiver behind its texel's surface, yet the map around it
+  // is not the receiver's plane. Another surface meets the receiver there - a leaf through a leaf,
+  // a wall rising from a floor - and may shadow it within the bias. Two tests:
+  //  - a neighbour nearer to the light than the receiver's plane gets there (1.5 intervals: a
+  //    neighbour's centre is at most 2.1 texels away, and the map's slope-scaled bias pushes the
+  //    plane's own samples back by more than the rest);
+  //  - the four edge neighbours leave the receiver's plane, extrapolated from the centre texel
+  //    with the plane's depth gradient per texel, by more than half an interval and a quarter of
+  //    the margin (bias cancels along a plane; curvature stays well inside that).
   if (s >= lo && zMin < d - 1.5 * (d - min(dHat, d))) flags |= PIP_CONTACT;
+  if (s >= lo && flags == 0u && interior) {
+    vec2 g = receiverDepthGradient(offsetP, n, texel, viewProj, uv * float(res), d);
+    float east = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t + ivec2(1, 0), face, res)) - s;
+    float west = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t - ivec2(1, 0), face, res)) - s;
+    float north = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t + ivec2(0, 1), face, res)) - s;
+    float south = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t - ivec2(0, 1), face, res)) - s;
+    float leaves = max(max(abs(east - g.x), abs(west + g.x)), max(abs(north - g.y), abs(south + g.y)));
+    if (!(leaves <= 0.25 * push.depthMargin + 0.5 * (d - min(dHat, d)))) flags |= PIP_CONTACT;
+  }
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;
