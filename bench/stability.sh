@@ -40,6 +40,13 @@ run "large light near caster (bunny, 0.5 r)" sm,pcf,pcss,msm --scene "$G/bunny_s
 # Overlapping penumbrae of casters at two heights (pcss's single average blocker depth).
 run "overlapping penumbrae (two heights)" pcss,sm,pcf --scene "$G/two_heights.gltf" --view "$G/two_heights.view.json" \
   --spp 16 --methods "$ALL"
+# Content the project's own scenes lacked (issue 17): leaves passing through leaves with no ground,
+# brushes with sub-texel cracks, T-junctions and coplanar faces under grazing light, a tube that
+# shadows only itself.
+run "foliage: 7,000 leaves, self-shadowing (builtin:foliage)" sm,pcf,pcss,msm --scene builtin:foliage --methods "$ALL"
+run "level: sub-texel cracks, T-junctions, grazing light (builtin:level)" sm,pcf,pcss,msm --scene builtin:level --methods "$ALL"
+run "knot: self-shadowing tube (builtin:knot)" - --scene builtin:knot --methods "$ALL"
+run "foliage, light 0.1 (builtin:foliage)" sm,pcf,pcss,msm --scene builtin:foliage --light-size 0.1 --spp 16 --methods "$ALL"
 # Huge coordinates: the same bunny scene at the origin (control) and 1e5 / 1e6 units away.
 for o in 0 1e5 1e6; do
   run "huge coordinates: offset $o (bunny)" "$([ $o = 0 ] && echo - || echo sm,pcf,pcss,msm)" --scene "$G/bunny_far$o.gltf" \

@@ -7,23 +7,20 @@
 
 #include <gtest/gtest.h>
 
+#include "mesh_checks.h"
+
 #include "core/builtin_scenes.h"
 #include "core/camera.h"
 #include "core/mesh_builder.h"
 #include "core/scene.h"
 
 using namespace penumbra;
+using penumbra::test::Box;
+using penumbra::test::boxesOf;
+using penumbra::test::meshNamed;
 
 namespace {
 
-const Mesh& meshNamed(const Scene& scene, const std::string& name) {
-  for (const Mesh& m : scene.meshes) {
-    if (m.name == name) return m;
-  }
-  ADD_FAILURE() << scene.name << " has no mesh '" << name << "'";
-  static const Mesh none;
-  return none;
-}
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -67,19 +64,6 @@ std::vector<glm::vec3> sphereDirections(int n) {
 }
 
 // Centres and vertical thickness of the boxes of a mesh built from 24-vertex boxes.
-struct Box {
-  glm::vec3 lo{1e30f}, hi{-1e30f};
-  glm::vec3 centre() const { return 0.5f * (lo + hi); }
-};
-std::vector<Box> boxesOf(const Mesh& m) {
-  EXPECT_EQ(m.positions.size() % 24, 0u) << m.name;
-  std::vector<Box> boxes(m.positions.size() / 24);
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    boxes[i / 24].lo = glm::min(boxes[i / 24].lo, m.positions[i]);
-    boxes[i / 24].hi = glm::max(boxes[i / 24].hi, m.positions[i]);
-  }
-  return boxes;
-}
 
 void expectWellFormed(const Scene& scene) {
   ASSERT_FALSE(scene.meshes.empty());

@@ -2,6 +2,9 @@
 // it must match ref where sm does not, the thin pass must be what fixes sub-texel wires, every
 // pixel sm gets wrong must be traced (PIP conservativeness), and full ray tracing must give the
 // same answer on the GPU BVH and on Embree.
+#include <string>
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include "core/mesh_builder.h"
@@ -45,6 +48,15 @@ std::size_t caughtOnlyBy(const Frame& srt, const Frame& reference, std::uint8_t 
               std::abs(srt.shadowMapVisibility[i] - reference.visibility[i]) > kWrongThresholdHard;
   }
   return caught;
+}
+
+// The reference and srt with the miss explainer on, at 128^2.
+std::pair<Frame, Frame> explainedRun(const std::string& spec) {
+  RenderSettings settings = settingsFor(128);
+  settings.pip.explain = true;
+  SceneRun run(spec, settings);
+  Frame reference = run.render("ref");
+  return {std::move(reference), run.render("srt")};
 }
 
 struct Case {
@@ -329,11 +341,7 @@ TEST(Selective, ClassificationListsWhatCompactionLists) {
 // Unseen receivers: on the knot's tube under grazing light the normal offset lifts receivers off
 // the map's surface in front of an edged neighbourhood; the map holds no sample of them.
 TEST(Selective, ReceiversTheMapDoesNotHoldAreTraced) {
-  RenderSettings settings = settingsFor(128);
-  settings.pip.explain = true;
-  SceneRun run("builtin:knot", settings);
-  const Frame reference = run.render("ref");
-  const Frame srt = run.render("srt");
+  const auto [reference, srt] = explainedRun("builtin:knot");
   EXPECT_GT(caughtOnlyBy(srt, reference, PIP_UNSEEN), 0u);
   EXPECT_EQ(missedPixels(srt, reference), 0u);
   ASSERT_EQ(srt.pipWhy.size(), srt.pip.size());
@@ -344,11 +352,7 @@ TEST(Selective, ReceiversTheMapDoesNotHoldAreTraced) {
 // leaf while the one rising through it shadows it. The rule catches some; the rest are counted by
 // the explainer as blockers within the bias, and the explainer accounts for every miss.
 TEST(Selective, SurfacesRisingBesideTheReceiverAreTraced) {
-  RenderSettings settings = settingsFor(128);
-  settings.pip.explain = true;
-  SceneRun run("builtin:foliage", settings);
-  const Frame reference = run.render("ref");
-  const Frame srt = run.render("srt");
+  const auto [reference, srt] = explainedRun("builtin:foliage");
   EXPECT_GT(caughtOnlyBy(srt, reference, PIP_CONTACT), 0u);
   const MissReport report = explainMisses(srt.shadowMapVisibility, srt.pip, srt.pipWhy, reference.visibility,
                                           reference.covered, kWrongThresholdHard);

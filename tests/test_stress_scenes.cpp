@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "mesh_checks.h"
+
 #include "core/builtin_scenes.h"
 #include "core/gpu_light.h"
 #include "core/metrics.h"
@@ -24,14 +26,6 @@ namespace {
 const std::vector<std::pair<std::string, std::size_t>> kDocumentedTriangles = {
     {"foliage", 14288}, {"level", 206}, {"knot", 32768}};
 
-const Mesh& meshNamed(const Scene& scene, const std::string& name) {
-  for (const Mesh& m : scene.meshes) {
-    if (m.name == name) return m;
-  }
-  ADD_FAILURE() << scene.name << " has no mesh '" << name << "'";
-  static const Mesh none;
-  return none;
-}
 
 struct Triangle {
   glm::vec3 a, b, c;
@@ -86,18 +80,6 @@ float texelAt(const Scene& scene, const glm::vec3& p) {
   return info.texelWorld * (info.viewProj[0] * glm::vec4(p, 1.0f)).w;
 }
 
-struct Box {
-  glm::vec3 lo{1e30f}, hi{-1e30f};
-};
-std::vector<Box> boxesOf(const Mesh& m) {
-  EXPECT_EQ(m.positions.size() % 24, 0u) << m.name;
-  std::vector<Box> boxes(m.positions.size() / 24);
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    boxes[i / 24].lo = glm::min(boxes[i / 24].lo, m.positions[i]);
-    boxes[i / 24].hi = glm::max(boxes[i / 24].hi, m.positions[i]);
-  }
-  return boxes;
-}
 
 }  // namespace
 
