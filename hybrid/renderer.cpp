@@ -133,13 +133,19 @@ TraceJob Renderer::traceJob(bool inPlace) {
   return {compact_.points(), compact_.count(), frameBuffer_, visibility_, gbuffer_.position().view(), gbuffer_.normal().view()};
 }
 
+void Renderer::recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  gpu::memoryBarrier(cmd, Stage::eDrawIndirect | Stage::eComputeShader, Access::eIndirectCommandRead | Access::eShaderStorageRead,
+                     Stage::eAllTransfer, Access::eTransferWrite);
+  cmd.updateBuffer<shared::TraceCount>(compact_.count().handle(), 0, count);
+  gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eDrawIndirect | Stage::eComputeShader,
+                     Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite);
+}
+
 void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
   const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
-  const shared::TraceCount count{items, (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE, 1, 1};
-  cmd.updateBuffer<shared::TraceCount>(compact_.count().handle(), 0, count);
-  gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
-                     vk::PipelineStageFlagBits2::eDrawIndirect | vk::PipelineStageFlagBits2::eComputeShader,
-                     vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead);
+  recordTraceCount(cmd, {items, (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE, 1, 1});
 }
 
 bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
@@ -171,6 +177,7 @@ bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
   }
   const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.points(), compact_.count(), why_};
   timer_.begin(cmd, "classify");
+  if (push.appendList) recordTraceCount(cmd, {0, 0, 1, 1});  // an empty list: workgroups add to count and groupsX
   classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
   timer_.end(cmd);
   if (cornerMaps) {

@@ -120,6 +120,8 @@ class Renderer {
   void recordUnclassified(const vk::raii::CommandBuffer& cmd);
 
  private:
+  // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
+  void recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count);
   void prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp);
   // Renders the G-buffer in a submission of its own and narrows frameData_.shadow to what it sees
   // (when settings_.fitLightToView applies to this light).

@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "pip_classify_comp.h"
-#include "shared/trace.h"
 
 namespace penumbra::raster {
 namespace {
@@ -43,15 +42,6 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
     cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
     gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite,
                        vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
-  }
-  if (push.appendList) {  // an empty list; workgroups add to count and groupsX atomically
-    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eDrawIndirect | vk::PipelineStageFlagBits2::eComputeShader,
-                       vk::AccessFlagBits2::eIndirectCommandRead | vk::AccessFlagBits2::eShaderStorageRead,
-                       vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite);
-    cmd.updateBuffer<shared::TraceCount>(out.count.handle(), 0, shared::TraceCount{0, 0, 1, 1});
-    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
-                       vk::PipelineStageFlagBits2::eComputeShader,
-                       vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite);
   }
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();

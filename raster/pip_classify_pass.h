@@ -28,7 +28,7 @@ struct PipBuffers {
   const gpu::Buffer& traceFlags;    // uint: PIP_* bits, 0 = keep the sm answer
   const gpu::Buffer& rayMax;        // float: shadow-ray interval end, 0 = to the light
   // The trace list (ShadingPoint[pixels], TraceCount) that PipPush::appendList fills: written
-  // only where the flags are nonzero, like smVisibility and rayMax.
+  // only where the flags are nonzero, like smVisibility and rayMax; the caller empties the count.
   const gpu::Buffer& points;
   const gpu::Buffer& count;
   const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written with PipPush::explain (zeroed first)
