@@ -98,6 +98,36 @@ if [ ! -f "$scenes/fence/fence.obj" ]; then
 fi
 licence "$scenes/fence" sweethome3d-furniture
 
+# Models of kinds the project's own scenes do not have (issue 17), used as they are, without a
+# ground quad. A Japanese maple (166K faces of leaves and twigs) from Sweet Home 3D's Scopia
+# catalogue (CC-BY 3.0).
+mkdir -p "$scenes/maple"
+if [ ! -f "$scenes/maple/japaneseMaple.obj" ]; then
+  unzip -o -q -j "$models/sweethome3d-furniture/usr/share/sweethome3d/furniture/Scopia.sh3f" \
+    'scopia/japaneseMaple/*' -d "$scenes/maple"
+fi
+licence "$scenes/maple" sweethome3d-furniture
+
+# Two ships from FlightGear's models (GPL-2+): the carrier USS Harry S. Truman (99K faces, masts,
+# antennas, deck markings) and a sailing boat with rigging (AC3D -> glb).
+unpack flightgear-data-models
+fg=$models/flightgear-data-models/usr/share/games/flightgear/Models
+mkdir -p "$scenes/truman" "$scenes/sailboat"
+convert "$fg/Geometry/Nimitz/truman.ac" "$scenes/truman/truman.glb"
+convert "$fg/Maritime/Civilian/SailBoatUnderSail.ac" "$scenes/sailboat/SailBoatUnderSail.glb"
+licence "$scenes/truman" flightgear-data-models
+licence "$scenes/sailboat" flightgear-data-models
+
+# Two brush-built game levels from OpenArena 0.8.1's maps (GPL-2): oasago2 (41K triangles) and
+# ctf_inyard (29K), Quake III BSPs read by bench/make_scenes.py.
+unpack openarena-081-maps
+mkdir -p "$scenes/openarena"
+for map in oasago2 ctf_inyard; do
+  [ -f "$scenes/openarena/$map.bsp" ] ||
+    unzip -o -q -j "$models/openarena-081-maps/usr/share/games/openarena/baseoa/pak1-maps.pk3" "maps/$map.bsp" -d "$scenes/openarena"
+done
+licence "$scenes/openarena" openarena-081-maps
+
 # Staged, subdivided, instanced and stability scenes (Debian's python3, which has numpy).
 /usr/bin/python3 bench/make_scenes.py "$scenes"
 echo "fetch_scenes: models in $scenes/, generated scenes in $scenes/generated/"

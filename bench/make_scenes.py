@@ -4,7 +4,9 @@
 Run with Debian's interpreter: /usr/bin/python3 bench/make_scenes.py [SCENES_DIR]  (numpy only).
 
 Every real model is normalised (centred, resting on y = 0, 2 units tall or long) and set on a
-2-triangle ground quad, so shadows have a receiver; nothing else is added. Scaling is done the
+2-triangle ground quad, so shadows have a receiver; nothing else is added. The models of other
+kinds (UNSEEN: a tree, two ships, two game levels) are written as they are, without a ground,
+as NAME.gltf: they shadow themselves. Scaling is done the
 honest way, and every scene name says which: `bunny_subN` are N levels of midpoint subdivision of
 the scan (each triangle split into 4: the same surface, 4^N times the triangles, like the paper's
 levels of one model), `fence_field` and `engine_row` are glTF nodes that instance ONE mesh. The
@@ -62,8 +64,9 @@ def _node_matrix(node):
     return m
 
 
-def read_glb(path):
-    """All triangle primitives of a binary glTF's default scene, flattened to world space."""
+def read_glb(path, skip=()):
+    """All triangle primitives of a binary glTF's default scene, flattened to world space, but for
+    the subtrees of nodes named in `skip`."""
     data = open(path, "rb").read()
     magic, version, length = struct.unpack_from("<4sII", data, 0)
     if magic != b"glTF" or version != 2 or length != len(data):
@@ -97,6 +100,8 @@ def read_glb(path):
     def visit(index, parent):
         nonlocal base
         node = doc["nodes"][index]
+        if node.get("name") in skip:
+            return
         world = parent @ _node_matrix(node)
         if "mesh" in node:
             for prim in doc["meshes"][node["mesh"]]["primitives"]:
@@ -115,6 +120,58 @@ def read_glb(path):
     for root in scene["nodes"]:
         visit(root, np.eye(4))
     return np.concatenate(positions), np.concatenate(triangles)
+
+
+def read_bsp(path, patch_steps=4):
+    """The drawn surfaces of a Quake III level (IBSP 46): polygons and meshes as they are, curved
+    patches tessellated (patch_steps per 3x3 Bezier patch), sky, nodraw and liquids (light goes
+    through them) left out. Brush geometry as the game draws it: T-junctions, coplanar faces and all."""
+    data = open(path, "rb").read()
+    magic, version = struct.unpack_from("<4si", data, 0)
+    if magic != b"IBSP" or version != 46:
+        raise SystemExit(f"make_scenes: {path} is not a Quake III BSP (IBSP 46)")
+    lumps = [struct.unpack_from("<ii", data, 8 + 8 * i) for i in range(17)]
+
+    def lump(i, dtype):
+        off, length = lumps[i]
+        return np.frombuffer(data, dtype=dtype, count=length // dtype.itemsize, offset=off)
+
+    textures = lump(1, np.dtype([("name", "S64"), ("flags", "<i4"), ("contents", "<i4")]))
+    verts = lump(10, np.dtype([("pos", "<f4", 3), ("uv", "<f4", 4), ("normal", "<f4", 3), ("rgba", "u1", 4)]))
+    meshverts = lump(11, np.dtype("<i4"))
+    faces = lump(13, np.dtype([("texture", "<i4"), ("effect", "<i4"), ("type", "<i4"), ("vertex", "<i4"),
+                               ("n_vertexes", "<i4"), ("meshvert", "<i4"), ("n_meshverts", "<i4"),
+                               ("lightmap", "<i4", 5), ("lightmap_geometry", "<f4", 12), ("size", "<i4", 2)]))
+    pos = verts["pos"].astype(np.float64)
+    skip_flags, skip_contents = 0x4 | 0x80, 8 | 16 | 32 | 64  # sky, nodraw; lava, slime, water, fog
+    t = np.linspace(0.0, 1.0, patch_steps + 1)
+    bezier = np.stack([(1 - t) ** 2, 2 * t * (1 - t), t ** 2], axis=1)
+    n = patch_steps + 1
+    q = (np.arange(patch_steps)[:, None] * n + np.arange(patch_steps)[None, :]).reshape(-1)
+    quads = np.stack([q, q + n, q + n + 1, q + 1], axis=1)
+    out_pos, out_tris, base = [pos], [], len(pos)
+    for f in faces:
+        tex = textures[f["texture"]]
+        if tex["flags"] & skip_flags or tex["contents"] & skip_contents:
+            continue
+        if f["type"] in (1, 3):  # polygon, mesh: triangles through meshverts, clockwise in Quake
+            idx = f["vertex"] + meshverts[f["meshvert"]: f["meshvert"] + f["n_meshverts"]]
+            out_tris.append(idx.reshape(-1, 3)[:, [0, 2, 1]])
+        elif f["type"] == 2:  # patch: a grid of biquadratic Bezier patches sharing their borders
+            w, h = f["size"]
+            grid = pos[f["vertex"]: f["vertex"] + w * h].reshape(h, w, 3)
+            for py in range(0, h - 1, 2):
+                for px in range(0, w - 1, 2):
+                    out_pos.append(np.einsum("ia,jb,abk->ijk", bezier, bezier, grid[py:py + 3, px:px + 3]).reshape(-1, 3))
+                    out_tris.append(np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) + base)
+                    base += n * n
+    return np.concatenate(out_pos), np.concatenate(out_tris).astype(np.int64)
+
+
+def only_used(pos, tris):
+    """Drops the vertices no triangle uses (they would widen the bounds)."""
+    used, remap = np.unique(tris, return_inverse=True)
+    return pos[used], remap.reshape(tris.shape)
 
 
 # ------------------------------------------------------------------------------------- geometry
@@ -238,11 +295,19 @@ SOURCES = {  # name: (file under SCENES, reader, rotation to y-up, normalised si
     "fzk-haus": ("fzk-haus/AC14-FZK-Haus.glb", read_glb, None, 2.0),
     "fence": ("fence/fence.obj", read_obj, None, 2.0),
 }
+# Real models of other kinds (issue 17), written as they are (no ground quad): NAME.gltf.
+UNSEEN = {
+    "maple": ("maple/japaneseMaple.obj", read_obj, None, 2.0),
+    "truman": ("truman/truman.glb", lambda path: read_glb(path, skip=("Wake",)), None, 2.0),  # not the water's wake
+    "sailboat": ("sailboat/SailBoatUnderSail.glb", read_glb, None, 2.0),
+    "oasago2": ("openarena/oasago2.bsp", read_bsp, Z_UP, 2.0),
+    "ctf_inyard": ("openarena/ctf_inyard.bsp", read_bsp, Z_UP, 2.0),
+}
 
 
 def load(name):
-    rel, reader, up, size = SOURCES[name]
-    pos, tris = reader(os.path.join(SCENES, rel))
+    rel, reader, up, size = SOURCES[name] if name in SOURCES else UNSEEN[name]
+    pos, tris = only_used(*reader(os.path.join(SCENES, rel)))
     return normalise(pos, up, size), tris
 
 
@@ -266,6 +331,10 @@ def main():
     for name in SOURCES:
         if not exists(name + "_stage"):
             staged(name, *model(name))
+    for name in UNSEEN:
+        if not exists(name):
+            pos, tris = model(name)
+            write_gltf(name, [(name, pos, tris, MODEL_GREY)], [(0, (0, 0, 0), 0)])
 
     # Subdivision levels of the scan: 69,666 x 4^N triangles (+2 for the ground).
     for level in (1, 2, 3):

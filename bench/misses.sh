@@ -5,7 +5,7 @@
 # (light 0.1, 16 samples): PIP %, sm and srt wrong %, pip_miss and penumbra_miss, and
 # `compare --explain-misses`' causes of the misses. Accuracy only (one frame, no timing).
 # With BEFORE=path/to/penumbra every configuration also runs on that binary (rows marked before).
-# Writes bench/results/misses.{csv,md} and misses.machine.txt.
+# Writes bench/results/misses.{csv,md} and misses.machine.txt (RESULTS=path/prefix writes elsewhere).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/env.sh
@@ -29,10 +29,12 @@ one() {
   printf '%s\n' "$build" "$label" "$view" "$kind" "$res" >"$out/case"
 }
 
-# scene LABEL VIEW [compare options...]: every resolution, hard and soft (KINDS), on each build.
+# scene LABEL VIEW [compare options...]: every resolution, hard and soft (KINDS), on each build;
+# ONLY=regex keeps the labels it matches (a partial run writes a partial table).
 scene() {
   local label=$1 view=$2 res kind build
   shift 2
+  [[ "$label" =~ ${ONLY:-.} ]] || return 0
   for res in 512x512 1024x1024; do
     for kind in ${KINDS:-hard soft}; do
       for build in after ${BEFORE:+before}; do one "$build" "$label" "$view" "$res" "$kind" "$@"; done
@@ -57,8 +59,15 @@ scene "FZK-Haus" close --scene "$G/fzk-haus_stage.gltf" --camera 1.118,1.444,1.5
 FENCE_LIGHT=(--light disk:-1.5,3.5,-4:0,0.5,0)
 scene "wrought-iron fence" default --scene "$G/fence_stage.gltf" --camera 3.245,3.597,4.636:0,0.584,0 "${FENCE_LIGHT[@]}"
 scene "wrought-iron fence" close --scene "$G/fence_stage.gltf" --camera 1.136,1.639,1.623:0,0.584,0 "${FENCE_LIGHT[@]}"
+# Real models of other kinds, as they are (no ground), in the default view and at 35% of its distance.
+close() { scene "$1" default --scene "$G/$2.gltf"; scene "$1" close --scene "$G/$2.gltf" --camera "$3"; }
+close "Japanese maple" maple 0.778,1.608,1.112:0,0.886,0
+close "USS Truman" truman 0.512,0.678,0.731:0,0.203,0
+close "sailing boat" sailboat 0.583,1.541,0.833:0,1,0
+close "oasago2 (OpenArena)" oasago2 0.692,0.900,0.988:0,0.258,0
+close "ctf_inyard (OpenArena)" ctf_inyard 0.556,0.918,0.794:0,0.402,0
 
-python3 - "$runs" <<'PY'
+python3 - "$runs" "${RESULTS:-bench/results/misses}" <<'PY'
 import csv, glob, json, os, sys
 rows = []
 for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
@@ -75,11 +84,11 @@ for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
         "pip_miss_pct": pct(srt["pip_miss_fraction"]), "penumbra_miss_pct": pct(srt["penumbra_miss_fraction"]),
         "miss_causes": " ".join("%s=%d" % (k, v) for k, v in sorted(causes.items()) if v),
     })
-with open("bench/results/misses.csv", "w", newline="") as f:
+with open(sys.argv[2] + ".csv", "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
     w.writeheader()
     w.writerows(rows)
-with open("bench/results/misses.md", "w") as f:
+with open(sys.argv[2] + ".md", "w") as f:
     f.write("# Where srt misses (bench/misses.sh)\n\n")
     f.write("Wrong pixels: |d| > 0.5 (hard), > 0.05 (soft) against the Embree reference with the same samples, over covered pixels. "
             "pip_miss: of the pixels sm gets wrong, those srt did not trace; penumbra_miss: of the reference's penumbra pixels, "
@@ -88,7 +97,7 @@ with open("bench/results/misses.md", "w") as f:
     f.write("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n")
     for r in rows:
         f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
-print("wrote bench/results/misses.{csv,md}")
+print("wrote " + sys.argv[2] + ".{csv,md}")
 PY
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m); $(vulkaninfo --summary 2>/dev/null | grep -m1 driverInfo | sed 's/^ *//')" \
-  | tee bench/results/misses.machine.txt
+  | tee "${RESULTS:-bench/results/misses}.machine.txt"
