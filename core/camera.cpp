@@ -19,6 +19,12 @@ ViewMatrices cameraMatrices(const Camera& camera, const Bounds& bounds, int widt
                             m.farPlane);
   m.proj[1][1] *= -1.0f;  // Vulkan NDC has y pointing down
   m.viewProj = m.proj * m.view;
+  // z' = w - z of the projection above, written directly (n / (f - n) and f n / (f - n)) rather
+  // than subtracted in float, where it would cancel.
+  glm::mat4 reversed = m.proj;
+  reversed[2][2] = m.nearPlane / (m.farPlane - m.nearPlane);
+  reversed[3][2] = m.farPlane * m.nearPlane / (m.farPlane - m.nearPlane);
+  m.reversedDepthViewProj = reversed * m.view;
   m.invViewProj = glm::inverse(m.viewProj);
   return m;
 }

@@ -13,6 +13,10 @@ struct ViewMatrices {
   glm::mat4 proj{1.0f};
   glm::mat4 viewProj{1.0f};
   glm::mat4 invViewProj{1.0f};
+  // The same projection with depth reversed (near 1, far 0): the camera pass draws with it, so a
+  // 32-bit float depth keeps ~24 bits of relative precision over the whole range and orders
+  // surfaces a hair apart (a decal over a deck) instead of z-fighting between them.
+  glm::mat4 reversedDepthViewProj{1.0f};
   float nearPlane = 0.1f;
   float farPlane = 100.0f;
 };

@@ -117,7 +117,7 @@ GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelin
                                                                .lineWidth = 1.0f};
   const vk::PipelineMultisampleStateCreateInfo multisample{.rasterizationSamples = vk::SampleCountFlagBits::e1};
   const vk::PipelineDepthStencilStateCreateInfo depth{
-      .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE, .depthCompareOp = vk::CompareOp::eLess};
+      .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE, .depthCompareOp = desc.depthCompare};
   const std::vector<vk::PipelineColorBlendAttachmentState> blend(
       desc.colorFormats.size(),
       {.blendEnable = VK_FALSE, .colorWriteMask = vk::ColorComponentFlagBits::eR | vk::ColorComponentFlagBits::eG |

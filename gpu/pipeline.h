@@ -73,12 +73,13 @@ struct GraphicsPipelineDesc {
   std::vector<vk::Format> colorFormats;
   vk::Format depthFormat = vk::Format::eD32Sfloat;
   bool depthBias = false;  // slope-scaled bias set per draw with setDepthBias
+  vk::CompareOp depthCompare = vk::CompareOp::eLess;  // eGreater for reversed depth
   std::vector<Binding> bindings;
   std::uint32_t pushConstantBytes = 0;
   std::string name;
 };
 
-// Triangle-list pipeline, no culling (scenes are drawn two-sided), depth test LESS, dynamic
+// Triangle-list pipeline, no culling (scenes are drawn two-sided), depth test LESS (or as set), dynamic
 // viewport/scissor (and depth bias when enabled); used with dynamic rendering.
 class GraphicsPipeline {
  public:

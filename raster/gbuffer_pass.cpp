@@ -22,6 +22,7 @@ gpu::GraphicsPipelineDesc pipelineDesc() {
                         {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
                         {2, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, color)}};
   d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO
+  d.depthCompare = vk::CompareOp::eGreater;  // reversed depth (ViewMatrices::reversedDepthViewProj)
   d.pushConstantBytes = sizeof(shared::GBufferPush);
   d.name = "gbuffer pipeline";
   return d;
@@ -66,14 +67,14 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
                                           .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
                                           .loadOp = vk::AttachmentLoadOp::eClear,
                                           .storeOp = vk::AttachmentStoreOp::eDontCare,
-                                          .clearValue = vk::ClearValue{.depthStencil = {.depth = 1.0f, .stencil = 0}}};
+                                          .clearValue = vk::ClearValue{.depthStencil = {.depth = 0.0f, .stencil = 0}}};
   const vk::Rect2D area{{0, 0}, {width_, height_}};
   cmd.beginRendering({.renderArea = area, .layerCount = 1, .colorAttachmentCount = std::uint32_t(colors.size()),
                       .pColorAttachments = colors.data(), .pDepthAttachment = &depth});
   cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f});
   cmd.setScissor(0, area);
   pipeline_.bind(cmd, gpu::Descriptors{});
-  pipeline_.pushConstants(cmd, shared::GBufferPush{view.viewProj, glm::vec4(cameraPosition, 1.0f)});
+  pipeline_.pushConstants(cmd, shared::GBufferPush{view.reversedDepthViewProj, glm::vec4(cameraPosition, 1.0f)});
   geometry.bind(cmd);
   geometry.draw(cmd);
   cmd.endRendering();
