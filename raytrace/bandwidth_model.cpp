@@ -214,7 +214,7 @@ BandwidthReport simulateTraceBandwidth(std::span<const shared::BvhNode> nodes,
         const shared::ShadingPoint& point = points[first + l];
         const std::uint32_t n = std::max(point.spp, 1u);
         if (s >= n) continue;
-        const vec3 origin = point.position + point.normal * light.rayEpsilon;
+        const vec3 origin = shared::shadowRayOrigin(light, point.position, point.normal);
         const vec3 q = shared::lightSamplePoint(light, point.pixel, s, n);
         if (!shared::lightReaches(light, point.position, point.normal, q)) continue;
         const vec3 dir = shared::directionToLight(light, point.position, q);

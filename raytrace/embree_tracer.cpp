@@ -204,7 +204,7 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
       const std::uint32_t n = std::max(sp.spp, 1u);
       const glm::vec3 p = sp.position;
       const glm::vec3 normal = sp.normal;
-      const glm::vec3 origin = p + normal * light.rayEpsilon;
+      const glm::vec3 origin = shared::shadowRayOrigin(light, p, normal);
       std::uint32_t visible = 0;
       for (std::uint32_t s = 0; s < n; ++s) {
         const glm::vec3 q = shared::lightSamplePoint(light, sp.pixel, s, n);

@@ -38,7 +38,7 @@ class EmbreeTracer final : public ShadowTracer {
 
   // visibility[i] = fraction of points[i].spp light samples (lightSamplePoint with
   // pixel = points[i].pixel) that reach the point: lightReaches() and no occluder between.
-  // Shadow rays start at position + normal * light.rayEpsilon. Returns the number of rays traced.
+  // Shadow rays start at shared::shadowRayOrigin (the point lifted off its surface along the normal). Returns the number of rays traced.
   std::uint64_t traceShadows(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
                              std::span<float> visibility) const;
 

@@ -297,7 +297,7 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
 
   float maxDistance = 0.0;
   if (flags != 0u && push.useIntervals != 0u) {
-    vec3 origin = p + n * light.rayEpsilon;
+    vec3 origin = shadowRayOrigin(light, p, n);
     vec3 dir = directionToLight(light, origin, light.position.xyz);
     float limit = zMin - (zMax - zMin) - 2.0 * texel;
     float rate = axisDepthRate(viewProj * vec4(dir, 0.0));  // < 0: towards the light

@@ -12,7 +12,7 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax);
 // The fraction of the point's light samples that reach it; adds the rays traced to `rays`.
 float shadowVisibility(ShadingPoint point, GpuLight light, inout uint rays) {
   uint n = max(point.spp, 1u);
-  vec3 origin = point.position + point.normal * light.rayEpsilon;
+  vec3 origin = shadowRayOrigin(light, point.position, point.normal);
   bool directional = light.type == LIGHT_DIRECTIONAL;
   uint visible = 0u;
   for (uint s = 0u; s < n; ++s) {

@@ -21,7 +21,7 @@ struct GpuLight {
   uint type;
   float size;          // rect side / disk diameter in world units; 0 = point
   float cosHalfAngle;  // spot cone; -1 for other lights
-  float rayEpsilon;    // shadow-ray origin offset along the normal, world units
+  float rayEpsilon;    // smallest shadow-ray origin offset along the normal, world units (shadowRayOrigin)
 };
 
 PN_FN uint pcgHash(uint v) {
@@ -101,6 +101,17 @@ PN_FN vec3 lightCorner(GpuLight light, uint i) {
   }
   vec3 axis = (i & 1u) != 0u ? b : t;
   return vec3(light.position) + ((i & 2u) != 0u ? h : -h) * axis;
+}
+
+// Where the shadow rays of surface point p (unit normal n, facing the viewer) start: off the
+// surface along n by the scene's tolerance (light.rayEpsilon: a surface nearer than that, such as
+// a decal, is part of the receiver and does not shadow it) or by the position's own float error
+// (SHADOW_RAY_ULPS units in the last place of its largest coordinate), whichever is larger, so that
+// a scene far from the origin does not shadow itself. Every tracer and the reference use this.
+#define SHADOW_RAY_ULPS 4.0f
+PN_FN vec3 shadowRayOrigin(GpuLight light, vec3 p, vec3 n) {
+  float magnitude = max(max(abs(p.x), abs(p.y)), abs(p.z));
+  return p + n * max(light.rayEpsilon, magnitude * (SHADOW_RAY_ULPS / 8388608.0f));
 }
 
 // Number of light samples a shading point uses: spp for area lights, one otherwise.
