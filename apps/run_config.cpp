@@ -50,7 +50,7 @@ std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene, bool us
   // the corner maps (--penumbra-maps 5) add one more map and pyramid.
   const std::uint64_t maps = s.pip.penumbraMaps == 5 ? 4 : 3;
   const std::uint64_t lightMaps = face * 6 * maps + face * 6 / 3 * (maps - 2);
-  const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4) * 2;  // images + readbacks
+  const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4 + 4) * 2;  // images (with depth) + readbacks
   // visibility, colour, sm visibility, trace flags, ray max, and the compacted ShadingPoints
   const std::uint64_t frame = pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
   // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)

@@ -26,7 +26,7 @@ struct RunConfig {
   std::uint32_t shadowMapRes = 2048;
   std::string pcfKernel = "3x3";
   std::uint32_t msmMaps = 4;  // shadow maps averaged by method msm
-  float depthBias = 1.0f, slopeBias = 1.5f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
+  float depthBias = 1.0f, slopeBias = 0.0f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file

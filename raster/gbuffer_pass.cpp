@@ -12,6 +12,7 @@ using Usage = vk::ImageUsageFlagBits;
 constexpr vk::Format kPositionFormat = vk::Format::eR32G32B32A32Sfloat;
 constexpr vk::Format kNormalFormat = vk::Format::eR32G32B32A32Sfloat;
 constexpr vk::Format kAlbedoFormat = vk::Format::eR8G8B8A8Unorm;
+constexpr vk::Format kFaceNormalFormat = vk::Format::eR32Uint;
 
 gpu::GraphicsPipelineDesc pipelineDesc() {
   gpu::GraphicsPipelineDesc d;
@@ -21,7 +22,7 @@ gpu::GraphicsPipelineDesc pipelineDesc() {
   d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)},
                         {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
                         {2, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, color)}};
-  d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO
+  d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat, kFaceNormalFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO, _FACE_NORMAL
   d.depthCompare = vk::CompareOp::eGreater;  // reversed depth (ViewMatrices::reversedDepthViewProj)
   d.pushConstantBytes = sizeof(shared::GBufferPush);
   d.name = "gbuffer pipeline";
@@ -36,6 +37,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, std::uint32_t width, std::
       position_(context, {kPositionFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer position"}),
       normal_(context, {kNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer normal"}),
       albedo_(context, {kAlbedoFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage, "gbuffer albedo"}),
+      faceNormal_(context, {kFaceNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage, "gbuffer face normal"}),
       depth_(context, {vk::Format::eD32Sfloat, width, height, 1, Usage::eDepthStencilAttachment, "gbuffer depth"}),
       positionReadback_(context, position_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer position readback"),
       normalReadback_(context, normal_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer normal readback"),
@@ -48,7 +50,7 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   const gpu::Transition toAttachment{vk::ImageLayout::eUndefined, vk::ImageLayout::eColorAttachmentOptimal,
                                      Stage::eAllCommands, Access::eMemoryRead | Access::eMemoryWrite,
                                      Stage::eColorAttachmentOutput, Access::eColorAttachmentWrite};
-  for (const gpu::Image* image : {&position_, &normal_, &albedo_}) gpu::transition(cmd, *image, toAttachment);
+  for (const gpu::Image* image : {&position_, &normal_, &albedo_, &faceNormal_}) gpu::transition(cmd, *image, toAttachment);
   gpu::transition(cmd, depth_, {vk::ImageLayout::eUndefined, vk::ImageLayout::eDepthAttachmentOptimal, Stage::eAllCommands,
                                 Access::eMemoryWrite, Stage::eEarlyFragmentTests | Stage::eLateFragmentTests,
                                 Access::eDepthStencilAttachmentWrite | Access::eDepthStencilAttachmentRead});
@@ -62,7 +64,7 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
                                        .clearValue = vk::ClearColorValue(std::array<float, 4>{0, 0, 0, 0})};
   };
   const std::array<vk::RenderingAttachmentInfo, GBUFFER_COUNT> colors{colorAttachment(position_), colorAttachment(normal_),
-                                                                      colorAttachment(albedo_)};
+                                                                      colorAttachment(albedo_), colorAttachment(faceNormal_)};
   const vk::RenderingAttachmentInfo depth{.imageView = depth_.view(),
                                           .imageLayout = vk::ImageLayout::eDepthAttachmentOptimal,
                                           .loadOp = vk::AttachmentLoadOp::eClear,
@@ -82,7 +84,7 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   const gpu::Transition toGeneral{vk::ImageLayout::eColorAttachmentOptimal, vk::ImageLayout::eGeneral,
                                   Stage::eColorAttachmentOutput, Access::eColorAttachmentWrite,
                                   Stage::eComputeShader | Stage::eCopy, Access::eShaderStorageRead | Access::eTransferRead};
-  for (const gpu::Image* image : {&position_, &normal_, &albedo_}) gpu::transition(cmd, *image, toGeneral);
+  for (const gpu::Image* image : {&position_, &normal_, &albedo_, &faceNormal_}) gpu::transition(cmd, *image, toGeneral);
 }
 
 void GBufferPass::recordReadback(const vk::raii::CommandBuffer& cmd) const {

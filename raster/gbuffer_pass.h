@@ -1,4 +1,5 @@
-// Camera pass: rasterizes the scene into a G-buffer (world position + coverage, normal, albedo).
+// Camera pass: rasterizes the scene into a G-buffer (world position + coverage, normal, albedo,
+// face normal; shared/gbuffer.h).
 // After record() the colour attachments are in GENERAL layout, readable by compute passes and copies.
 #pragma once
 #include <cstdint>
@@ -25,13 +26,16 @@ class GBufferPass {
   const gpu::Image& position() const { return position_; }
   const gpu::Image& normal() const { return normal_; }
   const gpu::Image& albedo() const { return albedo_; }
+  const gpu::Image& faceNormal() const { return faceNormal_; }
   std::uint32_t width() const { return width_; }
   std::uint32_t height() const { return height_; }
-  vk::DeviceSize bytes() const { return position_.bytes() + normal_.bytes() + albedo_.bytes() + depth_.bytes(); }
+  vk::DeviceSize bytes() const {
+    return position_.bytes() + normal_.bytes() + albedo_.bytes() + faceNormal_.bytes() + depth_.bytes();
+  }
 
  private:
   std::uint32_t width_, height_;
-  gpu::Image position_, normal_, albedo_, depth_;
+  gpu::Image position_, normal_, albedo_, faceNormal_, depth_;
   gpu::Buffer positionReadback_, normalReadback_;
   gpu::GraphicsPipeline pipeline_;
 };

@@ -14,7 +14,7 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
                                       {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer},
                                       {12, vk::DescriptorType::eStorageBuffer},       {13, vk::DescriptorType::eStorageBuffer},
-                                      {14, vk::DescriptorType::eStorageBuffer}};
+                                      {14, vk::DescriptorType::eStorageBuffer},       {15, vk::DescriptorType::eStorageImage}};
 
 }  // namespace
 
@@ -60,7 +60,8 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                           .buffer(11, thin ? thin->texels() : shadowMap.texels())
                           .buffer(12, out.points)
                           .buffer(13, out.count)
-                          .buffer(14, out.why));
+                          .buffer(14, out.why)
+                          .storageImage(15, gbuffer.faceNormal().view()));
   pipeline_.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

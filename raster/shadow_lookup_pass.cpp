@@ -11,7 +11,8 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},
                                       {2, vk::DescriptorType::eCombinedImageSampler},
                                       {3, vk::DescriptorType::eStorageBuffer},
                                       {4, vk::DescriptorType::eStorageBuffer},
-                                      {5, vk::DescriptorType::eStorageBuffer}};
+                                      {5, vk::DescriptorType::eStorageBuffer},
+                                      {6, vk::DescriptorType::eStorageImage}};
 
 // Matches the shader's push block.
 struct LookupPush {
@@ -31,7 +32,8 @@ void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferP
                           .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
                           .buffer(3, frame)
                           .buffer(4, visibility)
-                          .buffer(5, shadowMap.texels()));
+                          .buffer(5, shadowMap.texels())
+                          .storageImage(6, gbuffer.faceNormal().view()));
   pipeline_.pushConstants(cmd, LookupPush{accumulateWeight});
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);

@@ -25,6 +25,7 @@ glm::mat4 perspectiveVk(float fovY, float nearPlane, float farPlane) {
 }
 
 constexpr float kMaxSingleFaceFov = glm::radians(120.0f);
+static_assert(sizeof(shared::ShadowMapInfo) == 448, "std430 layout of shared/frame.h");
 
 }  // namespace
 
@@ -36,6 +37,7 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   const float res = float(settings.resolution);
   info.resolution = settings.resolution;
   info.normalOffset = settings.normalOffsetTexels;
+  info.slopeBias = settings.depthBiasSlope;
   info.texelBuffer = settings.reads == ShadowMapSettings::Reads::Buffer ? 1u : 0u;
   info.faceCount = 1;
 

@@ -16,7 +16,11 @@ namespace penumbra::raster {
 struct ShadowMapSettings {
   std::uint32_t resolution = 2048;
   float depthBiasConstant = 1.0f;  // in units of the minimum resolvable depth difference
-  float depthBiasSlope = 1.5f;     // times the triangle's depth slope
+  // Times the triangle's depth slope. 0: the map holds the surfaces' own depths, so srt's
+  // classification can tell a layer a hair above a receiver from the receiver (pip_classify.comp
+  // layerOver), and the receiver-side normal offset keeps acne away (1.5 made sm 0.43 -> 1.1%
+  // wrong on FZK-Haus by shifting shadows off their casters).
+  float depthBiasSlope = 0.0f;
   float normalOffsetTexels = 0.75f;
   // How compute passes read the light's depth maps (shadow map, thin mask): Texture, as sampled
   // images (right on a GPU), or Buffer, from a copy in a storage buffer (on lavapipe a sampled

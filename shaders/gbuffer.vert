@@ -9,9 +9,11 @@ layout(push_constant) uniform PushBlock { GBufferPush push; };
 layout(location = 0) out vec3 worldPosition;
 layout(location = 1) out vec3 worldNormal;
 layout(location = 2) out vec3 albedo;
+layout(location = 3) out vec3 fromCamera;
 void main() {
   worldPosition = inPosition;
   worldNormal = inNormal;
   albedo = inColor;
+  fromCamera = inPosition - push.cameraPosition.xyz;
   gl_Position = push.viewProj * vec4(inPosition, 1.0);
 }

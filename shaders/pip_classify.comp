@@ -7,9 +7,9 @@
 //    sin(b) = n.L;
 //  - a thin triangle, rasterized conservatively, covering the neighbourhood in front of it;
 //  - a neighbourhood that leaves its cube face (seams are classified conservatively);
-//  - beyond the paper, two cases the depth test lets through on real content (issue 17, found with
-//    compare --explain-misses): a receiver in front of an edged neighbourhood, which the map does
-//    not hold (unseen), and a surface rising beside a receiver the map sees (contact).
+//  - beyond the paper, what the depth test lets through on real content (issue 17, found with
+//    compare --explain-misses): another surface over the receiver within the bias - a surface
+//    rising beside it, a step's foot, a strip lying on it (contact; layerOver).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
@@ -34,10 +34,11 @@
 layout(local_size_x = PIP_GROUP_SIZE, local_size_y = PIP_GROUP_SIZE) in;
 layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
 layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
+layout(binding = 15, r32ui) uniform readonly uimage2D gFaceNormal;
 layout(binding = 2) uniform sampler2DArray shadowMap;
 layout(binding = 3) uniform sampler2DArray thinMask;
 layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 5) buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
 layout(std430, binding = 7) buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
@@ -49,6 +50,7 @@ layout(std430, binding = 13) buffer Count { TraceCount traceCount; };
 layout(std430, binding = 14) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
 #include "light_texels.glsl"
+#include "receiver_plane.glsl"
 
 float linearDepth(float z) {
   return linearShadowDepth(frame.shadow.kind, frame.shadow.nearPlane, frame.shadow.farPlane, z);
@@ -128,21 +130,50 @@ vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
   return vec2(linearDepth(window.x) < d - push.depthMargin ? 1.0 : 0.0, window.y);
 }
 
-// The depth change per texel step (x, y) of the receiver's tangent plane through p (depth d, at
-// texel coordinates e0) in the map: two points on the plane, a texel apart, projected. Not finite
-// when the plane is edge-on to the light.
-vec2 receiverDepthGradient(vec3 p, vec3 n, float texel, mat4 viewProj, vec2 e0, float d) {
-  vec3 t1 = normalize(cross(n, abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
-  vec3 t2 = cross(n, t1);
-  float res = float(frame.shadow.resolution);
-  vec4 c1 = viewProj * vec4(p + texel * t1, 1.0);
-  vec4 c2 = viewProj * vec4(p + texel * t2, 1.0);
-  vec2 e1 = (c1.xy / c1.w * 0.5 + 0.5) * res - e0;
-  vec2 e2 = (c2.xy / c2.w * 0.5 + 0.5) * res - e0;
-  float z1 = linearDepth(c1.z / c1.w) - d;
-  float z2 = linearDepth(c2.z / c2.w) - d;
-  // g with dot(g, e1) = z1 and dot(g, e2) = z2
-  return vec2(z1 * e2.y - z2 * e1.y, e1.x * z2 - e2.x * z1) / (e1.x * e2.y - e1.y * e2.x);
+// Whether the map holds another surface over the receiver p (face normal nf), nearer to the light
+// than p's own plane by more than the test's resolution (PIP_LAYER_TOLERANCE of the margin, or 4
+// steps of the stored depth), however little: a step whose foot p stands at, a decal or strip
+// lying on p's surface, a leaf through a leaf. Depth bias cannot tell such a layer from p. All in
+// NDC depth, where planes are affine in texel coordinates, around p's own texel, with the map's
+// slope-scaled bias taken off each sample (frame.shadow.slopeBias; 0 by default). A layer is:
+//  - the surface of p's texel, or of the texel sm read (t), nearer than p's plane at its centre, or
+//  - the surface of a neighbour q (an edge neighbour, or the diagonal one on p's side; its plane
+//    from q and the texels beyond it) that lies nearer than p's plane both at q and, extended, at
+//    p. A crease of one surface is nearer at one end only (its planes cross between p and q), so
+//    it is not a layer.
+bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texelBuffer, ivec2 t) {
+  int res = int(frame.shadow.resolution);
+  vec4 c0 = viewProj * vec4(p, 1.0);
+  float z0 = c0.z / c0.w;
+  vec2 e0 = (c0.xy / c0.w * 0.5 + 0.5) * float(res);
+  vec2 g = planeDepthGradient(p, nf, texel, viewProj, e0, z0);
+  float slope = frame.shadow.slopeBias;
+#define DEPTH_AT(q) LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, clamp(q, ivec2(0), ivec2(res - 1)), face, res)
+  ivec2 tp = clamp(ivec2(floor(e0)), ivec2(0), ivec2(res - 1));
+  vec2 f = e0 - (vec2(tp) + 0.5);  // p from its texel's centre, in texels
+  float raw = DEPTH_AT(tp);
+  float near = frame.shadow.nearPlane, far = frame.shadow.farPlane, w = linearDepth(raw);
+  float ndcPerUnit = frame.shadow.kind == SHADOW_ORTHO ? 1.0 / (far - near) : far * near / ((far - near) * w * w);
+  float tol = PIP_LAYER_TOLERANCE * push.depthMargin * ndcPerUnit + 4.0 * (uintBitsToFloat(floatBitsToUint(raw) + 1u) - raw);
+  float centreBias = slope * max(abs(g.x), abs(g.y));
+  if ((z0 - dot(g, f)) - (raw - centreBias) > tol) return true;
+  // The texel sm read (the normal offset may move it off p's own): its surface nearer than p's
+  // plane there is what made a lit receiver dark, or would make it so.
+  if (t != tp && (z0 + dot(g, vec2(t - tp) - f)) - (DEPTH_AT(t) - centreBias) > tol) return true;
+  ivec2 corner = ivec2(f.x < 0.0 ? -1 : 1, f.y < 0.0 ? -1 : 1);
+  const ivec2 dx = ivec2(1, 0), dy = ivec2(0, 1);
+  ivec2 around[5] = ivec2[5](dx, -dx, dy, -dy, corner);
+  for (int k = 0; k < 5; ++k) {
+    ivec2 o = around[k], q = tp + o;
+    float zq = DEPTH_AT(q);
+    // q's plane: outward differences along the axes it steps on, central ones across.
+    vec2 gq = vec2(o.x != 0 ? (DEPTH_AT(q + ivec2(o.x, 0)) - zq) * float(o.x) : 0.5 * (DEPTH_AT(q + dx) - DEPTH_AT(q - dx)),
+                   o.y != 0 ? (DEPTH_AT(q + ivec2(0, o.y)) - zq) * float(o.y) : 0.5 * (DEPTH_AT(q + dy) - DEPTH_AT(q - dy)));
+    zq -= slope * max(abs(gq.x), abs(gq.y));
+    if (z0 + dot(g, vec2(o) - f) - zq > tol && z0 - (zq + dot(gq, f - vec2(o))) > tol) return true;
+  }
+#undef DEPTH_AT
+  return false;
 }
 
 // Unflagged pixels keep the sm answer in `visibility`, so only flagged ones (which the trace
@@ -159,7 +190,7 @@ uint write(uint index, float vis, uint flags, float maxDistance, out float rayEn
 }
 
 // Classifies the pixel at `index` (covered: p, n) and writes its outputs; returns its flags.
-uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
+uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
   rayEnd = 0.0;
   // A corner map (--penumbra-maps 5) only adds its edges' splats to the centre pass's mask.
   bool corner = push.cornerUnion != 0u;
@@ -189,7 +220,15 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   ivec2 t = ivec2(floor(uv * float(res)));
   if (corner) {
     vec2 window = edgeWithinReach(offsetP, viewProj, t, face, linearDepth(ndc.z));
-    if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) traceFlags[index] |= PIP_PENUMBRA;
+    if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) {
+      // A pixel the centre pass left unflagged has its sm answer in `visibility` only and no ray
+      // end (write() stores both for flagged pixels); the trace and the stats need them.
+      if (traceFlags[index] == 0u) {
+        smVisibility[index] = visibility[index];
+        rayMax[index] = 0.0;
+      }
+      traceFlags[index] |= PIP_PENUMBRA;
+    }
     return 0u;
   }
   bool texelBuffer = frame.shadow.texelBuffer != 0u;
@@ -205,14 +244,19 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   }
 
   float d = linearDepth(ndc.z);
+  bool interior = all(greaterThan(t, ivec2(0))) && all(lessThan(t, ivec2(res - 1)));
   if (area) {
-    // In the mask iff an edge texel's splat covers the pixel; outside it the centre map's
-    // lit/umbra answer stands.
+    // In the mask iff an edge texel's splat covers the pixel, or a layer within the bias lies over
+    // a lit receiver (its penumbra is narrower than a texel); outside it the centre map's lit/umbra
+    // answer stands.
     vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
     bool edgeInReach = window.x > 0.0;
     bool straddles = facing < halfExtent;  // part of the light below the tangent plane
     uint softFlags = flags & PIP_THIN;
-    if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach) softFlags |= PIP_PENUMBRA;
+    if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach ||
+        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t))) {
+      softFlags |= PIP_PENUMBRA;
+    }
     return write(index, vis, softFlags, 0.0, rayEnd);
   }
   // 3x3 neighbourhood: its nearest and farthest raw depths (linear depth is monotonic in both
@@ -220,7 +264,6 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   // from the face's border read the buffer copy at fixed offsets, without bounds tests.
   float rawMin = raw;
   float rawMax = raw;
-  bool interior = all(greaterThan(t, ivec2(0))) && all(lessThan(t, ivec2(res - 1)));
   if (interior && texelBuffer) {
     int centre = (int(face) * res + t.y) * res + t.x;
     for (int y = -1; y <= 1; ++y) {
@@ -260,29 +303,15 @@ uint classify(uint index, vec3 p, vec3 n, out float rayEnd) {
   bool overlaps = hi >= s - delta && lo <= s + delta;
   bool straddles = dHat < s && d > s;
   if ((overlaps || straddles) && delta > push.deltaThreshold) flags |= PIP_EDGE;
-  // Unseen: the receiver lies in front of every depth of an edged neighbourhood, so the map holds
-  // no sample of it (a surface thinner than a texel, or one under grazing light that the normal
-  // offset moved off itself) and its lit answer rests on nothing.
-  if (hi < s - delta && delta > push.deltaThreshold) flags |= PIP_UNSEEN;
-  // Contact: the map does not put the receiver behind its texel's surface, yet the map around it
-  // is not the receiver's plane. Another surface meets the receiver there - a leaf through a leaf,
-  // a wall rising from a floor - and may shadow it within the bias. Two tests:
-  //  - a neighbour nearer to the light than the receiver's plane gets there (1.5 intervals: a
-  //    neighbour's centre is at most 2.1 texels away, and the map's slope-scaled bias pushes the
-  //    plane's own samples back by more than the rest);
-  //  - the four edge neighbours leave the receiver's plane, extrapolated from the centre texel
-  //    with the plane's depth gradient per texel, by more than half an interval and a quarter of
-  //    the margin (bias cancels along a plane; curvature stays well inside that).
+  // Contact: the map does not put the receiver behind its texel's surface, yet another surface
+  // meets the receiver there - a leaf through a leaf, a wall rising from a floor, a step's foot -
+  // and may shadow it within the bias. Two tests:
+  //  - a neighbour nearer to the light than the receiver's depth interval reaches (1.5 intervals:
+  //    a neighbour's centre is at most 2.1 texels away), cheap, for tall rises;
+  //  - layerOver, for layers of any height above the test's resolution.
   if (s >= lo && zMin < d - 1.5 * (d - min(dHat, d))) flags |= PIP_CONTACT;
-  if (s >= lo && flags == 0u && interior) {
-    vec2 g = receiverDepthGradient(offsetP, n, texel, viewProj, uv * float(res), d);
-    float east = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t + ivec2(1, 0), face, res)) - s;
-    float west = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t - ivec2(1, 0), face, res)) - s;
-    float north = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t + ivec2(0, 1), face, res)) - s;
-    float south = linearDepth(LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, t - ivec2(0, 1), face, res)) - s;
-    float leaves = max(max(abs(east - g.x), abs(west + g.x)), max(abs(north - g.y), abs(south + g.y)));
-    if (!(leaves <= 0.25 * push.depthMargin + 0.5 * (d - min(dHat, d)))) flags |= PIP_CONTACT;
-  }
+  if (s >= lo && flags == 0u && interior &&
+      layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t)) flags |= PIP_CONTACT;
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;
@@ -317,7 +346,7 @@ void main() {
   uint flags = 0u;
   if (position.w != 0.0) {
     n = imageLoad(gNormal, pix).xyz;
-    flags = classify(index, position.xyz, n, rayEnd);
+    flags = classify(index, pix, position.xyz, n, rayEnd);
   } else if (inside && push.cornerUnion == 0u) {
     visibility[index] = 1.0;
     traceFlags[index] = 0u;

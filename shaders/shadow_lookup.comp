@@ -1,7 +1,10 @@
 #version 450
 // Shadow-map lookup: visibility per pixel from one shadow map. sm and pcf look up the light's
 // centre map (unfiltered or PCF); pcss sizes its PCF kernel from a blocker search; msm runs this
-// once per light-sample map in accumulate mode, adding weight * visibility.
+// once per light-sample map in accumulate mode, adding weight * visibility. Filter taps compare
+// the map with the receiver's plane at the tap (receiver-plane depth, from the face normal), not
+// with the receiver's one depth: the map holds true depths (no slope-scaled bias by default), and a
+// sloped receiver would otherwise shadow itself across the kernel.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/raster.h"
@@ -12,7 +15,9 @@ layout(binding = 2) uniform sampler2DArray shadowMap;
 layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 4) buffer Visibility { float visibility[]; };
 layout(std430, binding = 5) readonly buffer ShadowTexels { float shadowTexels[]; };
+layout(binding = 6, r32ui) uniform readonly uimage2D gFaceNormal;
 #include "light_texels.glsl"
+#include "receiver_plane.glsl"
 // accumulateWeight 0: overwrite visibility; > 0: add accumulateWeight * visibility (msm).
 layout(push_constant) uniform Push { float accumulateWeight; } push;
 
@@ -40,9 +45,19 @@ void store(uint index, float v) {
   else visibility[index] = v;
 }
 
+// The receiver's plane in the map: NDC depth ndcZ at texel coordinates `at`, gradient `slope`.
+struct Receiver {
+  vec2 at;
+  float ndcZ;
+  vec2 slope;
+};
+float depthAt(Receiver r, ivec2 t) { return r.ndcZ + dot(r.slope, vec2(t) + 0.5 - r.at); }
+
 // Fernando 2005 for an area light of world size frame.light.size. Depths are linear along the
 // face axis; radii are in texels of the map. Returns 1 when the blocker search finds nothing.
-float pcss(vec2 centre, uint face, float ndcZ, mat2 rot) {
+float pcss(Receiver r, uint face, mat2 rot) {
+  vec2 centre = r.at;
+  float ndcZ = r.ndcZ;
   uint kind = frame.shadow.kind;
   float nearPlane = frame.shadow.nearPlane, farPlane = frame.shadow.farPlane;
   float d = linearShadowDepth(kind, nearPlane, farPlane, ndcZ);
@@ -61,7 +76,7 @@ float pcss(vec2 centre, uint face, float ndcZ, mat2 rot) {
     int res = int(frame.shadow.resolution);
     t = clamp(t, ivec2(0), ivec2(res - 1));
     float z = LIGHT_TEXEL(frame.shadow.texelBuffer != 0u, shadowMap, shadowTexels, t, face, res);
-    if (z < ndcZ) {
+    if (z < depthAt(r, t)) {
       blockerSum += linearShadowDepth(kind, nearPlane, farPlane, z);
       blockers += 1.0;
     }
@@ -76,8 +91,9 @@ float pcss(vec2 centre, uint face, float ndcZ, mat2 rot) {
   mat2 rot2 = rot * mat2(c, s, -s, c);
   float lit = 0.0;
   for (int i = 0; i < 16; ++i) {
-    lit += litAt(ivec2(floor(centre + radius * (rot * kPoisson[i]))), face, ndcZ);
-    lit += litAt(ivec2(floor(centre + radius * (rot2 * kPoisson[i]))), face, ndcZ);
+    ivec2 a = ivec2(floor(centre + radius * (rot * kPoisson[i])));
+    ivec2 b = ivec2(floor(centre + radius * (rot2 * kPoisson[i])));
+    lit += litAt(a, face, depthAt(r, a)) + litAt(b, face, depthAt(r, b));
   }
   return lit / 32.0;
 }
@@ -108,21 +124,34 @@ void main() {
   float lit = 0.0;
   if (frame.shadowFilter == FILTER_NONE || (frame.shadowFilter == FILTER_PCSS && !isAreaLight(frame.light))) {
     lit = litAt(t, face, ndc.z);
-  } else if (frame.shadowFilter == FILTER_PCSS) {
+    store(index, lit);
+    return;
+  }
+  // A face turned from the light (seen only through the shading normal) has no plane in the map.
+  Receiver r = Receiver(uv * float(frame.shadow.resolution), ndc.z, vec2(0.0));
+  vec3 nf = faceNormalAt(pix);
+  if (lightReaches(frame.light, p, nf, frame.light.position.xyz)) {
+    r.slope = planeDepthGradient(offsetP, nf, texel, frame.shadow.viewProj[face], r.at, ndc.z);
+    if (any(isinf(r.slope)) || any(isnan(r.slope))) r.slope = vec2(0.0);
+  }
+  if (frame.shadowFilter == FILTER_PCSS) {
     float angle = 6.2831853 * hashToUnit(pcgHash(index));
     mat2 rot = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
-    lit = pcss(uv * float(frame.shadow.resolution), face, ndc.z, rot);
+    lit = pcss(r, face, rot);
   } else if (frame.shadowFilter == FILTER_POISSON) {
     float angle = 6.2831853 * hashToUnit(pcgHash(index));
     mat2 rot = mat2(cos(angle), sin(angle), -sin(angle), cos(angle));
-    vec2 centre = uv * float(frame.shadow.resolution);
-    for (int i = 0; i < 16; ++i) lit += litAt(ivec2(floor(centre + 2.5 * (rot * kPoisson[i]))), face, ndc.z);
+    for (int i = 0; i < 16; ++i) {
+      ivec2 q = ivec2(floor(r.at + 2.5 * (rot * kPoisson[i])));
+      lit += litAt(q, face, depthAt(r, q));
+    }
     lit /= 16.0;
   } else {
-    int r = frame.shadowFilter == FILTER_PCF3 ? 1 : 2;
-    for (int y = -r; y <= r; ++y)
-      for (int x = -r; x <= r; ++x) lit += litAt(t + ivec2(x, y), face, ndc.z);
-    lit /= float((2 * r + 1) * (2 * r + 1));
+    int k = frame.shadowFilter == FILTER_PCF3 ? 1 : 2;
+    for (int y = -k; y <= k; ++y) {
+      for (int x = -k; x <= k; ++x) lit += litAt(t + ivec2(x, y), face, depthAt(r, t + ivec2(x, y)));
+    }
+    lit /= float((2 * k + 1) * (2 * k + 1));
   }
   store(index, lit);
 }

@@ -13,7 +13,7 @@
 namespace penumbra::test {
 namespace {
 
-Mesh meshNamed(const std::string& name) {
+Mesh namedMesh(const std::string& name) {
   Mesh m;
   m.name = name;
   return m;
@@ -57,7 +57,7 @@ double differing(const Frame& a, const Frame& b, bool awayFromEdges = false) {
 // a conventional 32-bit depth cannot tell the two layers apart at this distance.
 TEST(RayOrigins, CameraSeesTheDecalAHairAboveItsSurface) {
   const float gap = 1e-4f;
-  Mesh floor = meshNamed("floor"), decal = meshNamed("decal"), mast = meshNamed("mast");
+  Mesh floor = namedMesh("floor"), decal = namedMesh("decal"), mast = namedMesh("mast");
   mesh::addGrid(floor, {-10, 0, -10}, {20, 0, 0}, {0, 0, 20}, 10, 10, {0, 1, 0});
   mesh::addQuad(decal, {-2, gap, -2}, {2, gap, -2}, {2, gap, 2}, {-2, gap, 2}, {0, 1, 0});
   mesh::addBox(mast, {0, 15, 9.5f}, {0.2f, 0, 0}, {0, 15, 0}, {0, 0, 0.2f});
@@ -93,7 +93,7 @@ TEST(RayOrigins, CameraSeesTheDecalAHairAboveItsSurface) {
 // the far ball shadowing itself in speckles (8% of the pixels differed). The GPU tracer agrees.
 TEST(RayOrigins, FarFromTheOriginNothingShadowsItself) {
   auto scene = [](glm::vec3 o) {
-    Mesh floor = meshNamed("floor"), ball = meshNamed("ball");
+    Mesh floor = namedMesh("floor"), ball = namedMesh("ball");
     mesh::addQuad(floor, o + glm::vec3(-4, 0, -4), o + glm::vec3(4, 0, -4), o + glm::vec3(4, 0, 4),
                   o + glm::vec3(-4, 0, 4), {0, 1, 0});
     mesh::addSphere(ball, o + glm::vec3(0, 1, 0), 1.0f, 48, 24);

@@ -5,7 +5,8 @@
 PN_BEGIN
 
 #define PIP_GROUP_SIZE 8  // 8x8 pixels per workgroup
-#define PIP_WINDOW_TILES 4  // penumbra-mask windows are read at the pyramid level that makes them at most this many tiles wide
+#define PIP_WINDOW_TILES 4
+#define PIP_LAYER_TOLERANCE 0.05  // layerOver: a layer must stand this fraction of the margin off the receiver's plane  // penumbra-mask windows are read at the pyramid level that makes them at most this many tiles wide
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
@@ -14,10 +15,8 @@ PN_BEGIN
 #define PIP_OUTSIDE 8u    // outside the shadow map: nothing to classify with
 #define PIP_PENUMBRA 16u  // area light: a blocker edge within penumbra reach (the splat mask), or the
                           // light straddles the receiver's tangent plane
-#define PIP_CONTACT 32u   // the map sees the receiver, but a neighbour is nearer than the receiver's
-                          // plane reaches: a surface rising beside it (contact shadow within bias)
-#define PIP_UNSEEN 64u    // a depth edge with the receiver in front of all of it: the map holds no
-                          // sample of the receiver (sub-texel, or moved off itself by the normal offset)
+#define PIP_CONTACT 32u   // the map does not put the receiver in shadow, but another surface lies over it
+                          // within the bias: one rising beside it, a step's foot, a strip on it
 
 // Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.

@@ -8,7 +8,7 @@ PN_BEGIN
 
 struct GBufferPush {  // 80 bytes
   mat4 viewProj;
-  vec4 cameraPosition;
+  vec4 cameraPosition;  // xyz; the face normal comes from positions relative to it (small numbers, precise derivatives)
 };
 
 struct ShadowMapPush {  // 64 bytes
