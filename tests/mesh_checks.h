@@ -1,5 +1,5 @@
-// Shared by the scene tests: find a scene's mesh by name, and the axis-aligned boxes a mesh built
-// of mesh::addBox calls (24 vertices each) is made of.
+// Shared by the scene tests: find a scene's mesh by name, the axis-aligned boxes a mesh built of
+// mesh::addBox calls (24 vertices each) is made of, and scenes made in a test from such meshes.
 #pragma once
 #include <string>
 #include <vector>
@@ -10,6 +10,22 @@
 #include "core/scene.h"
 
 namespace penumbra::test {
+
+// An empty mesh called `name`, for the mesh:: primitives to fill.
+inline Mesh namedMesh(const std::string& name) {
+  Mesh m;
+  m.name = name;
+  return m;
+}
+
+// A scene of `meshes`, cleaned as the loaders clean theirs.
+inline Scene sceneOf(std::vector<Mesh> meshes, const std::string& name = "test") {
+  Scene s;
+  s.name = name;
+  s.meshes = std::move(meshes);
+  cleanScene(s, name);
+  return s;
+}
 
 inline const Mesh& meshNamed(const Scene& scene, const std::string& name) {
   for (const Mesh& m : scene.meshes) {

@@ -8,24 +8,11 @@
 #include <gtest/gtest.h>
 
 #include "core/mesh_builder.h"
+#include "mesh_checks.h"
 #include "render_fixture.h"
 
 namespace penumbra::test {
 namespace {
-
-Mesh namedMesh(const std::string& name) {
-  Mesh m;
-  m.name = name;
-  return m;
-}
-
-Scene sceneOf(std::vector<Mesh> meshes) {
-  Scene s;
-  s.name = "test";
-  s.meshes = std::move(meshes);
-  cleanScene(s, "test");
-  return s;
-}
 
 // Fraction of covered pixels where two visibility buffers differ by more than 0.5; with
 // `awayFromEdges`, only pixels whose 3x3 neighbourhood in `a` is all covered and all lit or all dark.

@@ -10,6 +10,7 @@
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
 #include "core/miss_explainer.h"
+#include "mesh_checks.h"
 #include "render_fixture.h"
 #include "shared/pip.h"
 
@@ -359,17 +360,11 @@ TEST(Selective, SurfacesRisingBesideTheReceiverAreTraced) {
 // the narrow shadows they cast; layerOver finds the layer among the receiver's texels and srt
 // traces every pixel sm gets wrong there (before it, 124 of them were missed at this view).
 TEST(Selective, LayersAHairAboveTheReceiverAreTraced) {
-  Mesh floor, step, strip;
-  floor.name = "floor";
-  step.name = "step";
-  strip.name = "strip";
+  Mesh floor = namedMesh("floor"), step = namedMesh("step"), strip = namedMesh("strip");
   mesh::addQuad(floor, {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, {0, 1, 0});
   mesh::addBox(step, {0, 0.005f, 0}, {4, 0, 0}, {0, 0.005f, 0}, {0, 0, 4});
   mesh::addQuad(strip, {-8, 0.005f, 5}, {8, 0.005f, 5}, {8, 0.005f, 5.6f}, {-8, 0.005f, 5.6f}, {0, 1, 0});
-  Scene scene;
-  scene.name = "layers";
-  scene.meshes = {floor, step, strip};
-  cleanScene(scene, "layers");
+  const Scene scene = sceneOf({floor, step, strip}, "layers");
   const Camera camera{.eye = {7, 3, 9}, .target = {3, 0, 4.5f}};
   const Light light{.type = LightType::Disk, .position = {-20, 16, -20}, .direction = glm::normalize(glm::vec3(20, -16, 20))};
   // Also with a slope-scaled bias in the map, as a user may set: the test takes it off the samples.
