@@ -141,7 +141,10 @@ vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
 //    from q and the texels beyond it) that lies nearer than p's plane both at q and, extended, at
 //    p. A crease of one surface is nearer at one end only (its planes cross between p and q), so
 //    it is not a layer.
-bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texelBuffer, ivec2 t) {
+// nearestRaw bounds the raw depths of t's 3x3 neighbourhood from below (0 when unknown): with
+// tp = t and no slope bias, a plane nowhere more than tol nearer than it rules every test out
+// unread, and a neighbour not nearer than p's plane at its centre needs no plane of its own.
+bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texelBuffer, ivec2 t, float nearestRaw) {
   int res = int(frame.shadow.resolution);
   vec4 c0 = viewProj * vec4(p, 1.0);
   float z0 = c0.z / c0.w;
@@ -156,7 +159,9 @@ bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texe
   float ndcPerUnit = frame.shadow.kind == SHADOW_ORTHO ? 1.0 / (far - near) : far * near / ((far - near) * w * w);
   float tol = PIP_LAYER_TOLERANCE * push.depthMargin * ndcPerUnit + 4.0 * (uintBitsToFloat(floatBitsToUint(raw) + 1u) - raw);
   float centreBias = slope * max(abs(g.x), abs(g.y));
-  if ((z0 - dot(g, f)) - (raw - centreBias) > tol) return true;
+  float atCentre = z0 - dot(g, f);  // p's plane at tp's centre
+  if (slope == 0.0 && tp == t && atCentre + abs(g.x) + abs(g.y) - nearestRaw <= tol) return false;
+  if (atCentre - (raw - centreBias) > tol) return true;
   // The texel sm read (the normal offset may move it off p's own): its surface nearer than p's
   // plane there is what made a lit receiver dark, or would make it so.
   if (t != tp && (z0 + dot(g, vec2(t - tp) - f)) - (DEPTH_AT(t) - centreBias) > tol) return true;
@@ -166,11 +171,13 @@ bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texe
   for (int k = 0; k < 5; ++k) {
     ivec2 o = around[k], q = tp + o;
     float zq = DEPTH_AT(q);
+    float over = z0 + dot(g, vec2(o) - f) - zq;  // how much nearer than p's plane q's texel lies
+    if (slope == 0.0 && !(over > tol)) continue;  // a bias could only move zq nearer
     // q's plane: outward differences along the axes it steps on, central ones across.
     vec2 gq = vec2(o.x != 0 ? (DEPTH_AT(q + ivec2(o.x, 0)) - zq) * float(o.x) : 0.5 * (DEPTH_AT(q + dx) - DEPTH_AT(q - dx)),
                    o.y != 0 ? (DEPTH_AT(q + ivec2(0, o.y)) - zq) * float(o.y) : 0.5 * (DEPTH_AT(q + dy) - DEPTH_AT(q - dy)));
-    zq -= slope * max(abs(gq.x), abs(gq.y));
-    if (z0 + dot(g, vec2(o) - f) - zq > tol && z0 - (zq + dot(gq, f - vec2(o))) > tol) return true;
+    float qBias = slope * max(abs(gq.x), abs(gq.y));
+    if (over + qBias > tol && z0 - (zq - qBias + dot(gq, f - vec2(o))) > tol) return true;
   }
 #undef DEPTH_AT
   return false;
@@ -254,7 +261,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
     bool straddles = facing < halfExtent;  // part of the light below the tangent plane
     uint softFlags = flags & PIP_THIN;
     if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach ||
-        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t))) {
+        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, 0.0))) {
       softFlags |= PIP_PENUMBRA;
     }
     return write(index, vis, softFlags, 0.0, rayEnd);
@@ -311,7 +318,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
   //  - layerOver, for layers of any height above the test's resolution.
   if (s >= lo && zMin < d - 1.5 * (d - min(dHat, d))) flags |= PIP_CONTACT;
   if (s >= lo && flags == 0u && interior &&
-      layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t)) flags |= PIP_CONTACT;
+      layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin)) flags |= PIP_CONTACT;
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;
