@@ -15,14 +15,16 @@
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
 // shape scaled by the edge's depth relative to the receiver; computed here by gathering instead of
 // splatting: a pixel is in the mask iff an edge texel nearer than the receiver lies where its
-// splat covers the pixel, i.e. on a segment from the pixel's point to the light (splatWindow),
-// searched with the edge pyramid.
-// Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge).
+// splat covers the pixel, i.e. on a segment from the pixel's point to the light, searched in the
+// edge pyramid (penumbra_mask.glsl).
+// Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge)
+// unless its umbra's blocker lies within its own depth interval (acne: traced, as is a layer
+// within the bias over a lit receiver).
 // With --penumbra-maps 5 the pass runs again on maps from the light's four corners, each adding
 // its edges' splats to the mask (cornerUnion).
 // With PipPush::appendList the flagged pixels also go straight into the trace list (ShadingPoints
 // and their count; the prefix-sum compaction pass is then not needed): on lavapipe the separate
-// pass cost about 9 ms at 1024^2 on lavapipe, half of what tracing the list costs.
+// pass cost about 9 ms at 1024^2, half of what tracing the list costs.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -55,6 +57,11 @@ layout(push_constant) uniform PushBlock { PipPush push; };
 float linearDepth(float z) {
   return linearShadowDepth(frame.shadow.kind, frame.shadow.nearPlane, frame.shadow.farPlane, z);
 }
+// Its inverse: the raw (NDC) depth of linear depth z.
+float rawDepth(float z) {
+  float near = frame.shadow.nearPlane, far = frame.shadow.farPlane;
+  return frame.shadow.kind == SHADOW_ORTHO ? (z - near) / (far - near) : (far - near * far / z) / (far - near);
+}
 
 // Depth along the face axis, from clip coordinates (affine in world space for both projections).
 float axisDepth(vec4 clip) {
@@ -63,72 +70,7 @@ float axisDepth(vec4 clip) {
 float axisDepthRate(vec4 clipDir) {
   return frame.shadow.kind == SHADOW_ORTHO ? clipDir.z * (frame.shadow.farPlane - frame.shadow.nearPlane) : clipDir.w;
 }
-
-// The nearest blocker depth of the edge texels in the texel window [lo, hi] on `face` (1 = none):
-// the smallest pyramid level whose tiles make the window at most 4 tiles wide, all its tiles read.
-// .y = 1 when the window leaves the face (a cube seam).
-vec2 nearestEdgeIn(ivec2 lo, ivec2 hi, uint face) {
-  int res = int(frame.shadow.resolution);
-  float seam = any(lessThan(lo, ivec2(0))) || any(greaterThanEqual(hi, ivec2(res))) ? 1.0 : 0.0;
-  lo = clamp(lo, ivec2(0), ivec2(res - 1));
-  hi = clamp(hi, ivec2(0), ivec2(res - 1));
-  uint level = 1u;
-  while (level < push.pyramidLevels && any(greaterThan((hi >> level) - (lo >> level), ivec2(PIP_WINDOW_TILES - 1)))) ++level;
-  uint dim = pyramidDim(frame.shadow.resolution, level);
-  uint base = pyramidOffset(frame.shadow.resolution, frame.shadow.faceCount, level);
-  float nearest = 1.0;
-  for (int y = lo.y >> level; y <= (hi.y >> level); ++y) {
-    for (int x = lo.x >> level; x <= (hi.x >> level); ++x) nearest = min(nearest, tiles[base + (face * dim + uint(y)) * dim + uint(x)]);
-  }
-  return vec2(nearest, seam);
-}
-
-vec2 nearestEdge(ivec2 t, float radius, uint face) {
-  int r = int(ceil(radius));
-  return nearestEdgeIn(t - ivec2(r), t + ivec2(r), face);
-}
-
-// The penumbra mask's window on this map: the texels where an edge no closer to the light than z can lie and
-// still hide part of the light from p (depth d). Such an edge is on a segment from p to a light
-// point at depth >= z; the segments to the light's corners (a disk's bounding square) at depth z
-// project, with p's texel, to a convex hull whose bounding box is returned (+1.5 texels).
-// .z = 1 when a corner lies behind the map's eye (the window is unbounded).
-vec3 splatWindow(vec3 p, mat4 viewProj, ivec2 t, float d, float z, out ivec2 lo, out ivec2 hi) {
-  vec3 tan1 = frame.light.tangent.xyz;
-  vec3 tan2 = cross(frame.light.direction.xyz, tan1);
-  float h = 0.5 * frame.light.size;
-  vec2 a = vec2(t), b = vec2(t);
-  float res = float(frame.shadow.resolution);
-  for (int j = 0; j < 4; ++j) {
-    vec3 q = frame.light.position.xyz + h * ((j & 1) != 0 ? tan1 : -tan1) + h * ((j & 2) != 0 ? tan2 : -tan2);
-    float dq = axisDepth(viewProj * vec4(q, 1.0));
-    float s = d > dq ? clamp((d - z) / (d - dq), 0.0, 1.0) : 1.0;
-    vec4 c = viewProj * vec4(mix(p, q, s), 1.0);
-    if (c.w <= 1e-6 * d) return vec3(0.0, 0.0, 1.0);
-    vec2 e = (c.xy / c.w * 0.5 + 0.5) * res;
-    a = min(a, e);
-    b = max(b, e);
-  }
-  lo = ivec2(floor(a - 1.5));
-  hi = ivec2(ceil(b + 1.5));
-  return vec3(0.0);
-}
-
-// Area lights: .x = 1 when an edge texel nearer to the light than the receiver p (depth d, texel
-// t) lies in its splat window, i.e. the edge's splat covers the pixel; .y = 1 when the window
-// leaves the face. The first window assumes the nearest possible edge; the nearest edge found in
-// it bounds the second.
-vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
-  ivec2 lo, hi;
-  float zNear = frame.shadow.nearPlane;
-  if (splatWindow(p, viewProj, t, d, zNear, lo, hi).z > 0.0) return vec2(1.0, 1.0);
-  vec2 wide = nearestEdgeIn(lo, hi, face);
-  float z1 = max(linearDepth(wide.x), zNear);
-  if (z1 >= d - push.depthMargin) return vec2(0.0, wide.y);
-  if (splatWindow(p, viewProj, t, d, z1, lo, hi).z > 0.0) return vec2(1.0, 1.0);
-  vec2 window = nearestEdgeIn(lo, hi, face);
-  return vec2(linearDepth(window.x) < d - push.depthMargin ? 1.0 : 0.0, window.y);
-}
+#include "penumbra_mask.glsl"
 
 // Whether the map holds another surface over the receiver p (face normal nf), nearer to the light
 // than p's own plane by more than the test's resolution (PIP_LAYER_TOLERANCE of the margin, or 4
@@ -252,20 +194,15 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
 
   float d = linearDepth(ndc.z);
   bool interior = all(greaterThan(t, ivec2(0))) && all(lessThan(t, ivec2(res - 1)));
-  if (area) {
-    // In the mask iff an edge texel's splat covers the pixel, or a layer within the bias lies over
-    // a lit receiver (its penumbra is narrower than a texel); outside it the centre map's lit/umbra
-    // answer stands.
-    vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
-    bool edgeInReach = window.x > 0.0;
-    bool straddles = facing < halfExtent;  // part of the light below the tangent plane
-    uint softFlags = flags & PIP_THIN;
-    if (straddles || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach ||
-        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, 0.0))) {
-      softFlags |= PIP_PENUMBRA;
-    }
-    return write(index, vis, softFlags, 0.0, rayEnd);
-  }
+  // The receiver's depth interval within its texel, [d-hat, d] (sin(a + b) expanded: no asin).
+  vec3 l = directionToLight(light, p, light.position.xyz);
+  float sinB = clamp(dot(n, l), 1e-4, 1.0);
+  float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
+  float a = frame.shadow.texelWorld;
+  float dHat = kind == SHADOW_ORTHO ? d - texel * cosB / sinB : d * sinB / (sin(a) * cosB + cos(a) * sinB);
+  float lo = min(dHat, d) - push.depthMargin;
+  float hi = d + push.depthMargin;
+  float s = linearDepth(raw);
   // 3x3 neighbourhood: its nearest and farthest raw depths (linear depth is monotonic in both
   // projections, so two conversions give the spread around s and the minimum depth). Texels away
   // from the face's border read the buffer copy at fixed offsets, without bounds tests.
@@ -294,29 +231,37 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
       }
     }
   }
-  float s = linearDepth(raw);
   float zMin = linearDepth(rawMin);
+  // Contact: the map does not put the receiver behind its texel's surface, yet another surface
+  // meets the receiver there - a leaf through a leaf, a wall rising from a floor, a step's foot -
+  // and may shadow it within the bias: a neighbour nearer to the light than the receiver's depth
+  // interval reaches (1.5 intervals: a neighbour's centre is at most 2.1 texels away), cheap, for
+  // tall rises; layerOver, for layers of any height above the test's resolution.
+  bool contact = s >= lo && zMin < d - 1.5 * (d - min(dHat, d));
   float zMax = linearDepth(rawMax);
   float delta = max(zMax - s, s - zMin);
 
-  // The receiver's depth interval within its texel, [d-hat, d] (sin(a + b) expanded: no asin).
-  vec3 l = directionToLight(light, p, light.position.xyz);
-  float sinB = clamp(dot(n, l), 1e-4, 1.0);
-  float cosB = sqrt(max(1.0 - sinB * sinB, 0.0));
-  float a = frame.shadow.texelWorld;
-  float dHat = kind == SHADOW_ORTHO ? d - texel * cosB / sinB : d * sinB / (sin(a) * cosB + cos(a) * sinB);
-  float lo = min(dHat, d) - push.depthMargin;
-  float hi = d + push.depthMargin;
   bool overlaps = hi >= s - delta && lo <= s + delta;
   bool straddles = dHat < s && d > s;
   if ((overlaps || straddles) && delta > push.deltaThreshold) flags |= PIP_EDGE;
-  // Contact: the map does not put the receiver behind its texel's surface, yet another surface
-  // meets the receiver there - a leaf through a leaf, a wall rising from a floor, a step's foot -
-  // and may shadow it within the bias. Two tests:
-  //  - a neighbour nearer to the light than the receiver's depth interval reaches (1.5 intervals:
-  //    a neighbour's centre is at most 2.1 texels away), cheap, for tall rises;
-  //  - layerOver, for layers of any height above the test's resolution.
-  if (s >= lo && zMin < d - 1.5 * (d - min(dHat, d))) flags |= PIP_CONTACT;
+  if (contact) flags |= PIP_CONTACT;
+  if (area) {
+    // Outside the penumbra mask the centre map's lit/umbra answer stands for every light sample,
+    // so what makes that answer doubtful for the centre (above) puts a pixel in the mask too. The
+    // mask: an edge texel's splat covers the pixel, or another surface lies over a lit receiver
+    // within the bias (its penumbra is narrower than a texel), or the umbra's blocker lies within
+    // the receiver's own depth interval (it may be the receiver itself: acne), or part of the
+    // light is below the receiver's tangent plane.
+    vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
+    bool edgeInReach = window.x > 0.0;
+    bool belowTangent = facing < halfExtent;
+    flags &= ~PIP_SEAM;  // the windows handle seams
+    if (flags != 0u || belowTangent || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach || (vis == 0.0 && s >= lo) ||
+        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin))) {
+      flags |= PIP_PENUMBRA;
+    }
+    return write(index, vis, flags, 0.0, rayEnd);
+  }
   if (s >= lo && flags == 0u && interior &&
       layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin)) flags |= PIP_CONTACT;
   zMin = min(zMin, thinDepth);
