@@ -252,15 +252,14 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
     // within the bias (its penumbra is narrower than a texel), or the umbra's blocker lies within
     // the receiver's own depth interval (it may be the receiver itself: acne), or part of the
     // light is below the receiver's tangent plane.
-    vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
-    bool edgeInReach = window.x > 0.0;
-    bool belowTangent = facing < halfExtent;
     flags &= ~PIP_SEAM;  // the windows handle seams
-    if (flags != 0u || belowTangent || (window.y > 0.0 && kind == SHADOW_CUBE) || edgeInReach || (vis == 0.0 && s >= lo) ||
-        (vis > 0.0 && interior && layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin))) {
-      flags |= PIP_PENUMBRA;
+    bool inMask = flags != 0u || facing < halfExtent || (vis == 0.0 && s >= lo);
+    if (!inMask) {  // the searches: edges whose splat reaches the pixel, then layers
+      vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
+      inMask = window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE);
     }
-    return write(index, vis, flags, 0.0, rayEnd);
+    if (!inMask && vis > 0.0 && interior) inMask = layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin);
+    return write(index, vis, inMask ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
   if (s >= lo && flags == 0u && interior &&
       layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin)) flags |= PIP_CONTACT;
