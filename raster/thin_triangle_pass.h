@@ -41,8 +41,9 @@ class ThinTrianglePass {
   ThinTrianglePass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount,
                    ThinTriangleSettings thin = {});
   // Renders info.faceCount faces into the mask (cleared to 1.0, depth test LESS, no bias: the mask
-  // must never be farther than the triangle). A thin triangle writes the minimum NDC depth of its
-  // (near-clipped) corners to every texel within THIN_DILATE_TEXELS of a texel its square touches.
+  // must never be farther than the triangle). A thin triangle writes, to every texel within
+  // THIN_DILATE_TEXELS of a texel its square touches, the least NDC depth of its plane over that
+  // texel's block (within its corners' depths; edge-on or near-clipped: its nearest corner's).
   // Selects the thin triangles first; when the last record was for the same faces and geometry
   // version, records nothing: that mask still holds. Leaves the mask in SHADER_READ_ONLY layout for
   // compute reads (a caller that changes the layout must restore it).

@@ -3,10 +3,14 @@
 #include "shared/thin.h"
 // Thin-triangle pass: the geometry shader's rectangle holds the conservative region; keep the
 // texels whose centre lies in it, i.e. within every edge slab and the grown bounding box, and
-// write one flat depth, the nearest corner's, so the mask is never farther than the triangle.
+// write the least depth of the triangle's plane over the block of texels this one stands for
+// (NDC depth is affine in texel coordinates over a plane), kept within its corners' depths: the
+// mask is never farther than the triangle, and a long sliver sloping away from the light is not
+// stamped with its nearest corner's depth all along.
 layout(location = 0) flat in vec4 inEdges[THIN_EDGES];  // xy: unit normal, z/w: min/max of dot(normal, texel)
 layout(location = THIN_EDGES) flat in vec4 inBox;       // xy: min, zw: max texel coordinates
-layout(location = THIN_EDGES + 1) flat in float inDepth;
+layout(location = THIN_EDGES + 1) flat in vec4 inDepth;  // x: nearest corner, y: farthest, zw: gradient over texels
+layout(location = THIN_EDGES + 2) flat in vec3 inDepthAt;  // xy: texel coordinates, z: the plane's depth there
 void main() {
   vec2 p = gl_FragCoord.xy;
   if (p.x < inBox.x || p.y < inBox.y || p.x > inBox.z || p.y > inBox.w) discard;
@@ -14,5 +18,8 @@ void main() {
     float d = dot(inEdges[i].xy, p);
     if (d < inEdges[i].z || d > inEdges[i].w) discard;
   }
-  gl_FragDepth = inDepth;
+  // the plane's least depth over the block the texel stands for, within the corners' range
+  vec2 g = inDepth.zw;
+  float reach = 0.5 + THIN_DILATE_TEXELS + THIN_EPSILON_TEXELS;
+  gl_FragDepth = clamp(inDepthAt.z + dot(g, p - inDepthAt.xy) - (abs(g.x) + abs(g.y)) * reach, inDepth.x, inDepth.y);
 }

@@ -26,13 +26,16 @@
 // face. Such a clipped triangle is measured in world space instead (altitude and longest edge over
 // the texel size at its farthest in-front corner), because its texel-space shape diverges near the
 // near plane; its nearest corner is on the near plane, so it writes depth 0 (still conservative).
+// Depth: the corners' range and the plane's depth gradient over texel coordinates, for the
+// fragment shader (a triangle seen edge-on, or clipped, keeps its nearest corner's depth).
 // Any corner left with w <= 0 (a projection neither perspective nor orthographic) drops it.
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 layout(location = 0) in vec3 inWorld[];
 layout(location = 0) flat out vec4 outEdges[THIN_EDGES];
 layout(location = THIN_EDGES) flat out vec4 outBox;
-layout(location = THIN_EDGES + 1) flat out float outDepth;
+layout(location = THIN_EDGES + 1) flat out vec4 outDepth;      // x: nearest corner, y: farthest, zw: gradient
+layout(location = THIN_EDGES + 2) flat out vec3 outDepthAt;   // xy: a corner's texel coordinates, z: its depth
 layout(push_constant) uniform PushBlock { ThinTrianglePush push; };
 
 #include "thin_face.glsl"
@@ -54,14 +57,15 @@ vec4 edgeSlab(vec4 a, vec4 b, vec4 q0, vec4 q1, vec4 q2, vec4 q3) {
   return vec4(normal, lo - support - constant, hi + support - constant);
 }
 
-void emit(vec2 corner, vec4 e0, vec4 e1, vec4 e2, vec4 e3, vec4 box, float depth) {
-  gl_Position = vec4(corner / push.resolution * 2.0 - 1.0, depth, 1.0);
+void emit(vec2 corner, vec4 e0, vec4 e1, vec4 e2, vec4 e3, vec4 box, vec4 depth, vec3 depthAt) {
+  gl_Position = vec4(corner / push.resolution * 2.0 - 1.0, depth.x, 1.0);
   outEdges[0] = e0;
   outEdges[1] = e1;
   outEdges[2] = e2;
   outEdges[3] = e3;
   outBox = box;
   outDepth = depth;
+  outDepthAt = depthAt;
   EmitVertex();
 }
 
@@ -78,7 +82,15 @@ void main() {
   vec2 hi = max(max(p0, p1), max(p2, p3));
   float grow = 0.5 + THIN_DILATE_TEXELS + THIN_EPSILON_TEXELS;
   vec4 box = vec4(clamp(lo, -1.0, res + 1.0) - grow, clamp(hi, -1.0, res + 1.0) + grow);
-  float depth = clamp(min(min(q0.z / q0.w, q1.z / q1.w), min(q2.z / q2.w, q3.z / q3.w)), 0.0, 1.0);
+  vec4 z = vec4(q0.z / q0.w, q1.z / q1.w, q2.z / q2.w, q3.z / q3.w);
+  vec4 depth = vec4(clamp(min(min(z.x, z.y), min(z.z, z.w)), 0.0, 1.0), clamp(max(max(z.x, z.y), max(z.z, z.w)), 0.0, 1.0), 0.0, 0.0);
+  {  // NDC depth is affine over a plane in texel coordinates: z = z0 + dot(g, p - p0)
+    vec2 a = p1 - p0, b = p2 - p0;
+    float det = a.x * b.y - a.y * b.x;
+    vec2 g = vec2((z.y - z.x) * b.y - (z.z - z.x) * a.y, (z.z - z.x) * a.x - (z.y - z.x) * b.x) / det;
+    if (behind == 0u && abs(det) > 1e-6 && !any(isinf(g)) && !any(isnan(g))) depth.zw = g;
+  }
+  vec3 depthAt = vec3(p0, depth.zw == vec2(0.0) ? depth.x : z.x);
   vec4 s0 = edgeSlab(q0, q1, q0, q1, q2, q3);
   vec4 s1 = edgeSlab(q1, q2, q0, q1, q2, q3);
   vec4 s2 = edgeSlab(q2, q3, q0, q1, q2, q3);
@@ -96,16 +108,16 @@ void main() {
     float gv = (0.5 + THIN_DILATE_TEXELS) * (abs(v.x) + abs(v.y)) + THIN_EPSILON_TEXELS;
     float u0 = min(du.x, min(du.y, du.z)) - gu, u1 = max(du.x, max(du.y, du.z)) + gu;
     float v0 = min(dv.x, min(dv.y, dv.z)) - gv, v1 = max(dv.x, max(dv.y, dv.z)) + gv;
-    emit(u * u0 + v * v0, s0, s1, s2, s3, box, depth);
-    emit(u * u1 + v * v0, s0, s1, s2, s3, box, depth);
-    emit(u * u0 + v * v1, s0, s1, s2, s3, box, depth);
-    emit(u * u1 + v * v1, s0, s1, s2, s3, box, depth);
+    emit(u * u0 + v * v0, s0, s1, s2, s3, box, depth, depthAt);
+    emit(u * u1 + v * v0, s0, s1, s2, s3, box, depth, depthAt);
+    emit(u * u0 + v * v1, s0, s1, s2, s3, box, depth, depthAt);
+    emit(u * u1 + v * v1, s0, s1, s2, s3, box, depth, depthAt);
   } else {
     // Reaching far off the face: its part on the face lies in the (clamped) box.
-    emit(box.xy, s0, s1, s2, s3, box, depth);
-    emit(box.zy, s0, s1, s2, s3, box, depth);
-    emit(box.xw, s0, s1, s2, s3, box, depth);
-    emit(box.zw, s0, s1, s2, s3, box, depth);
+    emit(box.xy, s0, s1, s2, s3, box, depth, depthAt);
+    emit(box.zy, s0, s1, s2, s3, box, depth, depthAt);
+    emit(box.xw, s0, s1, s2, s3, box, depth, depthAt);
+    emit(box.zw, s0, s1, s2, s3, box, depth, depthAt);
   }
   EndPrimitive();
 }

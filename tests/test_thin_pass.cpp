@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -140,6 +141,29 @@ double distance(const std::vector<glm::dvec2>& poly, glm::dvec2 p) {
   return anyPositive && anyNegative ? best : 0.0;
 }
 
+// The least depth of the projected triangle over the square [lo, hi] (+infinity where they do not
+// meet): NDC depth is affine over the triangle in texel space, so its minimum over the triangle
+// clipped to the square lies at a corner of that polygon (Sutherland-Hodgman, one side at a time).
+double minDepthOver(const Projected& tri, glm::dvec2 lo, glm::dvec2 hi) {
+  std::vector<glm::dvec3> poly;  // texel x, y and depth
+  for (std::size_t i = 0; i < tri.texel.size(); ++i) poly.emplace_back(tri.texel[i], tri.depth[i]);
+  for (int side = 0; side < 4 && !poly.empty(); ++side) {
+    const int axis = side % 2;
+    const double bound = side < 2 ? lo[axis] : hi[axis];
+    const auto inside = [&](const glm::dvec3& p) { return side < 2 ? p[axis] >= bound : p[axis] <= bound; };
+    std::vector<glm::dvec3> kept;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const glm::dvec3 a = poly[i], b = poly[(i + 1) % poly.size()];
+      if (inside(a)) kept.push_back(a);
+      if (inside(a) != inside(b)) kept.push_back(glm::mix(a, b, (bound - a[axis]) / (b[axis] - a[axis])));
+    }
+    poly = std::move(kept);
+  }
+  double least = std::numeric_limits<double>::infinity();
+  for (const glm::dvec3& p : poly) least = std::min(least, p.z);
+  return least;
+}
+
 // A mesh holding one triangle (normals left to cleanScene).
 void addTriangle(Scene& scene, const char* name, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
   Mesh& m = scene.meshes.emplace_back();
@@ -173,6 +197,7 @@ struct Coverage {
   int maskMissing = 0;   // reached texels the mask left at 1.0
   int maskTooFar = 0;    // reached texels where the mask is farther than the triangle
   int strayFar = 0;      // texels more than 3 texels from the thin triangle that the mask covers
+  double maskFarthest = 0.0;  // the mask's deepest value over the reached texels
 };
 
 Coverage measure(const Maps& maps, std::uint32_t face, const Projected& tri) {
@@ -191,8 +216,11 @@ Coverage measure(const Maps& maps, std::uint32_t face, const Projected& tri) {
       if (!tri.texel.empty() && overlaps(tri.texel, blockLo, blockHi)) {
         ++c.reached;
         if (mask >= 1.0f) ++c.maskMissing;
-        // The nearest corner's depth bounds the triangle's depth over any texel from below.
-        if (double(mask) > tri.minDepth() + 1e-5) ++c.maskTooFar;
+        // Never farther than the triangle within the block; and where the triangle slopes away
+        // from the light, deeper than its nearest corner.
+        const double least = minDepthOver(tri, blockLo, blockHi);
+        if (double(mask) > least + 1e-5) ++c.maskTooFar;
+        c.maskFarthest = std::max(c.maskFarthest, double(mask));
       } else if (mask < 1.0f && (tri.texel.empty() || distance(tri.texel, glm::dvec2(x + 0.5, y + 0.5)) > 3.0)) {
         ++c.strayFar;
       }
@@ -245,7 +273,10 @@ void checkSingleFace(const Light& light, std::uint32_t expectedKind) {
   ASSERT_TRUE(shared::thinTriangle(glm::vec2(tri.texel[0]), glm::vec2(tri.texel[1]), glm::vec2(tri.texel[2]), 1.0f, 4.0f));
 
   const Maps maps = render(scene, info);
-  expectThinCovered(measure(maps, 0, tri));
+  const Coverage coverage = measure(maps, 0, tri);
+  expectThinCovered(coverage);
+  // The mask follows the sliver's depth: its far end is not stamped with the nearest corner's.
+  EXPECT_GT(coverage.maskFarthest, tri.minDepth() + 0.5 * (tri.maxDepth() - tri.minDepth()));
   // The large triangle: ordinary map yes, mask no (its texels are far from the sliver).
   int largeOrdinary = 0, largeMask = 0;
   for (int y = 25; y < 60; ++y) {
