@@ -37,35 +37,32 @@ run() {
   printf '%s\n' "$build" "$label" "$kind" "$tracer" >"$out/case"
 }
 
-# scenes BUILD KIND RES TRACER [bench options...]: the courtyard and the real models.
+# builds BUILDS LABEL KIND RES TRACER [bench options...]: run on each build of the list, back to
+# back, so that drift of this shared machine over the sweep hits them alike.
+builds() {
+  local list=$1 b
+  shift
+  for b in $list; do run "$b" "$@"; done
+}
+
+# scenes BUILDS KIND RES TRACER [bench options...]: the courtyard and the real models.
 scenes() {
   local b=$1 kind=$2 res=$3 tracer=$4
   shift 4
-  run "$b" courtyard "$kind" "$res" "$tracer" --scenes builtin:courtyard "$@"
+  builds "$b" courtyard "$kind" "$res" "$tracer" --scenes builtin:courtyard "$@"
   if [ -f "$G/bunny_stage.gltf" ]; then
-    run "$b" "Stanford Bunny (close)" "$kind" "$res" "$tracer" --scenes "$G/bunny_stage.gltf" \
+    builds "$b" "Stanford Bunny (close)" "$kind" "$res" "$tracer" --scenes "$G/bunny_stage.gltf" \
       --camera 1.201,2.106,1.715:0,0.991,0 --light disk:-2.668,6.326,1.601:0.378,0.236,-0.227 "$@"
-    run "$b" "FZK-Haus (close)" "$kind" "$res" "$tracer" --scenes "$G/fzk-haus_stage.gltf" \
+    builds "$b" "FZK-Haus (close)" "$kind" "$res" "$tracer" --scenes "$G/fzk-haus_stage.gltf" \
       --camera 1.118,1.444,1.596:0,0.407,0 --light disk:-2.483,5.372,1.490:0.153,0.100,-0.092 "$@"
-    run "$b" "wrought-iron fence (close)" "$kind" "$res" "$tracer" --scenes "$G/fence_stage.gltf" \
+    builds "$b" "wrought-iron fence (close)" "$kind" "$res" "$tracer" --scenes "$G/fence_stage.gltf" \
       --camera 1.136,1.639,1.623:0,0.584,0 --light disk:-1.5,3.5,-4:0,0.5,0 "$@"
   fi
 }
 
-configs() {  # build
-  local kind res
-  for res in 512x512 1024x1024; do
-    for kind in hard soft; do scenes "$1" "$kind" "$res" bvh; done
-  done
-}
-
-if [ -n "${BEFORE:-}" ]; then
-  # Alternate whole sweeps so that drift of this shared machine hits both builds alike.
-  configs before
-  configs after
-else
-  configs after
-fi
+for res in 512x512 1024x1024; do
+  for kind in hard soft; do scenes "${BEFORE:+before }after" "$kind" "$res" bvh; done
+done
 # The map fitted to the view (--light-fit view, hard shadows: area lights keep the whole-scene map).
 for res in 512x512 1024x1024; do scenes after hard "$res" "bvh, view fit" --light-fit view; done
 for tracer in $TRACERS; do
