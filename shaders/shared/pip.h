@@ -6,7 +6,7 @@ PN_BEGIN
 
 #define PIP_GROUP_SIZE 8  // 8x8 pixels per workgroup
 #define PIP_LAYER_TOLERANCE 0.05  // layerOver: a layer must stand this fraction of the margin off the receiver's plane
-#define PIP_MAX_TILE_VISITS 256   // penumbra mask: edge-pyramid tiles one pixel's search may open before it gives up (in the mask)
+#define PIP_MAX_TILE_VISITS 256   // penumbra mask: edge-pyramid tiles one pixel's search may read before it gives up (in the mask)
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
