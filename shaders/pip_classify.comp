@@ -158,7 +158,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
   uint face = shadowFace(kind, frame.shadow.lightPosition, p);
   float texel = shadowTexelWorld(kind, frame.shadow.texelWorld, frame.shadow.lightPosition, p);
   vec3 offsetP = p + n * (frame.shadow.normalOffset * texel);
-  mat4 viewProj = frame.shadow.viewProj[face];
+  mat4 viewProj = faceViewProj(face);
   vec4 clip = viewProj * vec4(offsetP, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;

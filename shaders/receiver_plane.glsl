@@ -6,6 +6,14 @@
 // classification (layerOver).
 #include "shared/gbuffer.h"
 
+// The view-projection of a face of the light's map. Only cube maps have several: the branch is
+// uniform, so other maps read it at a constant offset (on lavapipe, a load at an offset that
+// varies per lane runs lane by lane: ~8 ms at 1024^2 for the classification's matrix).
+mat4 faceViewProj(uint face) {
+  if (frame.shadow.kind == SHADOW_CUBE) return frame.shadow.viewProj[face];
+  return frame.shadow.viewProj[0];
+}
+
 vec3 faceNormalAt(ivec2 pix) { return octahedralDecode(unpackSnorm2x16(imageLoad(gFaceNormal, pix).x)); }
 
 // The NDC depth change per texel step (x, y) of the plane through p (NDC depth z0, at texel

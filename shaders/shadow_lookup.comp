@@ -112,7 +112,7 @@ void main() {
   uint face = shadowFace(kind, frame.shadow.lightPosition, p);
   float texel = shadowTexelWorld(kind, frame.shadow.texelWorld, frame.shadow.lightPosition, p);
   vec3 offsetP = p + n * (frame.shadow.normalOffset * texel);
-  vec4 clip = frame.shadow.viewProj[face] * vec4(offsetP, 1.0);
+  vec4 clip = faceViewProj(face) * vec4(offsetP, 1.0);
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   // Outside the map (or beyond its far plane) nothing was rendered that could block.
@@ -131,7 +131,7 @@ void main() {
   Receiver r = Receiver(uv * float(frame.shadow.resolution), ndc.z, vec2(0.0));
   vec3 nf = faceNormalAt(pix);
   if (lightReaches(frame.light, p, nf, frame.light.position.xyz)) {
-    r.slope = planeDepthGradient(offsetP, nf, texel, frame.shadow.viewProj[face], r.at, ndc.z);
+    r.slope = planeDepthGradient(offsetP, nf, texel, faceViewProj(face), r.at, ndc.z);
     if (any(isinf(r.slope)) || any(isnan(r.slope))) r.slope = vec2(0.0);
   }
   if (frame.shadowFilter == FILTER_PCSS) {
