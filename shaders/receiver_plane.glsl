@@ -6,9 +6,10 @@
 // classification (layerOver).
 #include "shared/gbuffer.h"
 
-// The view-projection of a face of the light's map. Only cube maps have several: the branch is
-// uniform, so other maps read it at a constant offset (on lavapipe, a load at an offset that
-// varies per lane runs lane by lane: ~8 ms at 1024^2 for the classification's matrix).
+// The view-projection of a face of the light's map. Only cube maps have several; for the others
+// the branch is uniform and the matrix is read at a constant offset, once per subgroup. Indexed by
+// the per-pixel face, lavapipe gathers its 16 floats lane by lane in every subgroup: ~6 ms of the
+// classification and 3 ms of the lookup at 1024^2 (Mesa 25.0).
 mat4 faceViewProj(uint face) {
   if (frame.shadow.kind == SHADOW_CUBE) return frame.shadow.viewProj[face];
   return frame.shadow.viewProj[0];
