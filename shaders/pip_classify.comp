@@ -109,9 +109,10 @@ bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texe
   if (t != tp && (z0 + dot(g, vec2(t - tp) - f)) - (DEPTH_AT(t) - centreBias) > tol) return true;
   ivec2 corner = ivec2(f.x < 0.0 ? -1 : 1, f.y < 0.0 ? -1 : 1);
   const ivec2 dx = ivec2(1, 0), dy = ivec2(0, 1);
-  ivec2 around[5] = ivec2[5](dx, -dx, dy, -dy, corner);
   for (int k = 0; k < 5; ++k) {
-    ivec2 o = around[k], q = tp + o;
+    // dx, -dx, dy, -dy, corner (no local array: lavapipe keeps one indexed by k in scratch memory,
+    // read lane by lane)
+    ivec2 o = k == 4 ? corner : ivec2(k == 0 ? 1 : k == 1 ? -1 : 0, k == 2 ? 1 : k == 3 ? -1 : 0), q = tp + o;
     float zq = DEPTH_AT(q);
     float over = z0 + dot(g, vec2(o) - f) - zq;  // how much nearer than p's plane q's texel lies
     if (slope == 0.0 && !(over > tol)) continue;  // a bias could only move zq nearer
