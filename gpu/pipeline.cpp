@@ -73,14 +73,39 @@ void Descriptors::push(const vk::raii::CommandBuffer& cmd, vk::PipelineBindPoint
 }
 
 ComputePipeline::ComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
-                                 std::span<const Binding> bindings, std::uint32_t pushConstantBytes, const std::string& name)
+                                 std::span<const Binding> bindings, std::uint32_t pushConstantBytes, const std::string& name,
+                                 std::span<const std::uint32_t> specialization)
     : layout_(context, bindings, vk::ShaderStageFlagBits::eCompute, pushConstantBytes) {
   const auto module = shaderModule(context, spirv);
+  std::vector<vk::SpecializationMapEntry> entries;
+  for (std::uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, 4 * i, 4});
+  const vk::SpecializationInfo constants{.mapEntryCount = std::uint32_t(entries.size()),
+                                         .pMapEntries = entries.data(),
+                                         .dataSize = specialization.size_bytes(),
+                                         .pData = specialization.data()};
   pipeline_ = vk::raii::Pipeline(
       context.device(), nullptr,
-      vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main"},
+      vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute,
+                                              .module = *module,
+                                              .pName = "main",
+                                              .pSpecializationInfo = entries.empty() ? nullptr : &constants},
                                     .layout = layout_.handle()});
   context.name(*pipeline_, name);
+}
+
+SpecializedComputePipeline::SpecializedComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
+                                                       std::span<const Binding> bindings,
+                                                       std::uint32_t pushConstantBytes, std::string name)
+    : context_(context), spirv_(spirv), bindings_(bindings), pushConstantBytes_(pushConstantBytes), name_(std::move(name)) {}
+
+const ComputePipeline& SpecializedComputePipeline::operator()(bool value) const {
+  std::optional<ComputePipeline>& variant = variants_[value ? 1 : 0];
+  const std::uint32_t constant = value ? 1u : 0u;
+  if (!variant) {
+    variant.emplace(context_, spirv_, bindings_, pushConstantBytes_, name_ + (value ? " (1)" : " (0)"),
+                    std::span<const std::uint32_t>(&constant, 1));
+  }
+  return *variant;
 }
 
 void ComputePipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {

@@ -1,5 +1,6 @@
 // Pipelines with push descriptors (no pools to manage): one set, bound per dispatch or draw.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -51,8 +52,10 @@ class Descriptors {
 
 class ComputePipeline {
  public:
+  // specialization: the values of the shader's specialization constants 0, 1, ... (4 bytes each).
   ComputePipeline(const Context& context, std::span<const std::uint32_t> spirv, std::span<const Binding> bindings,
-                  std::uint32_t pushConstantBytes, const std::string& name);
+                  std::uint32_t pushConstantBytes, const std::string& name,
+                  std::span<const std::uint32_t> specialization = {});
   void bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
   template <typename T>
   void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
@@ -62,6 +65,24 @@ class ComputePipeline {
  private:
   PipelineLayout layout_;
   vk::raii::Pipeline pipeline_{nullptr};
+};
+
+// A compute shader with one boolean specialization constant (constant_id 0): a choice fixed for
+// a whole dispatch that would otherwise be a branch in every invocation (lavapipe runs both sides
+// of such a branch). One pipeline per value, each created when first used.
+class SpecializedComputePipeline {
+ public:
+  SpecializedComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
+                             std::span<const Binding> bindings, std::uint32_t pushConstantBytes, std::string name);
+  const ComputePipeline& operator()(bool value) const;
+
+ private:
+  const Context& context_;
+  std::span<const std::uint32_t> spirv_;
+  std::span<const Binding> bindings_;
+  std::uint32_t pushConstantBytes_;
+  std::string name_;
+  mutable std::array<std::optional<ComputePipeline>, 2> variants_;
 };
 
 struct GraphicsPipelineDesc {

@@ -37,23 +37,23 @@ DepthPyramidPass::DepthPyramidPass(const gpu::Context& context, std::uint32_t re
 void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
                               const shared::ShadowMapInfo& info, float deltaThreshold) const {
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
-  pipeline_.bind(cmd, gpu::Descriptors{}
-                          .sampledImage(0, shadowMap.depth().view(), shadowMap.sampler())
-                          .sampledImage(1, thin ? thin->depth().view() : shadowMap.depth().view(),
-                                        thin ? thin->sampler() : shadowMap.sampler())
-                          .buffer(2, tiles_)
-                          .buffer(3, shadowMap.texels())
-                          .buffer(4, thin ? thin->texels() : shadowMap.texels()));
+  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin));
+  pipeline.bind(cmd, gpu::Descriptors{}
+                         .sampledImage(0, shadowMap.depth().view(), shadowMap.sampler())
+                         .sampledImage(1, thin ? thin->depth().view() : shadowMap.depth().view(),
+                                       thin ? thin->sampler() : shadowMap.sampler())
+                         .buffer(2, tiles_)
+                         .buffer(3, shadowMap.texels())
+                         .buffer(4, thin ? thin->texels() : shadowMap.texels()));
   for (std::uint32_t level = 1; level <= levels_; ++level) {
-    pipeline_.pushConstants(cmd, shared::PyramidPush{.level = level,
-                                                     .resolution = resolution_,
-                                                     .faceCount = faceCount_,
-                                                     .useThin = thin ? 1u : 0u,
-                                                     .kind = info.kind,
-                                                     .nearPlane = info.nearPlane,
-                                                     .farPlane = info.farPlane,
-                                                     .deltaThreshold = deltaThreshold,
-                                                     .texelBuffer = info.texelBuffer});
+    pipeline.pushConstants(cmd, shared::PyramidPush{.level = level,
+                                                    .resolution = resolution_,
+                                                    .faceCount = faceCount_,
+                                                    .useThin = thin ? 1u : 0u,
+                                                    .kind = info.kind,
+                                                    .nearPlane = info.nearPlane,
+                                                    .farPlane = info.farPlane,
+                                                    .deltaThreshold = deltaThreshold});
     const std::uint32_t dim = shared::pyramidDim(resolution_, level);
     cmd.dispatch((dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, (dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, faceCount_);
     gpu::computeToComputeAndHost(cmd);

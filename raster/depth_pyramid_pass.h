@@ -22,7 +22,7 @@ class DepthPyramidPass {
  private:
   std::uint32_t resolution_, faceCount_, levels_;
   gpu::Buffer tiles_;
-  gpu::ComputePipeline pipeline_;
+  gpu::SpecializedComputePipeline pipeline_;  // on texelReads()
 };
 
 }  // namespace penumbra::raster

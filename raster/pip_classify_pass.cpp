@@ -45,24 +45,25 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
   }
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
-  pipeline_.bind(cmd, gpu::Descriptors{}
-                          .storageImage(0, gbuffer.position().view())
-                          .storageImage(1, gbuffer.normal().view())
-                          .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
-                          .sampledImage(3, thinView, thin ? thin->sampler() : shadowMap.sampler())
-                          .buffer(4, frame)
-                          .buffer(5, out.visibility)
-                          .buffer(6, out.smVisibility)
-                          .buffer(7, out.traceFlags)
-                          .buffer(8, out.rayMax)
-                          .buffer(9, pyramid.tiles())
-                          .buffer(10, shadowMap.texels())
-                          .buffer(11, thin ? thin->texels() : shadowMap.texels())
-                          .buffer(12, out.points)
-                          .buffer(13, out.count)
-                          .buffer(14, out.why)
-                          .storageImage(15, gbuffer.faceNormal().view()));
-  pipeline_.pushConstants(cmd, push);
+  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin));
+  pipeline.bind(cmd, gpu::Descriptors{}
+                         .storageImage(0, gbuffer.position().view())
+                         .storageImage(1, gbuffer.normal().view())
+                         .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
+                         .sampledImage(3, thinView, thin ? thin->sampler() : shadowMap.sampler())
+                         .buffer(4, frame)
+                         .buffer(5, out.visibility)
+                         .buffer(6, out.smVisibility)
+                         .buffer(7, out.traceFlags)
+                         .buffer(8, out.rayMax)
+                         .buffer(9, pyramid.tiles())
+                         .buffer(10, shadowMap.texels())
+                         .buffer(11, thin ? thin->texels() : shadowMap.texels())
+                         .buffer(12, out.points)
+                         .buffer(13, out.count)
+                         .buffer(14, out.why)
+                         .storageImage(15, gbuffer.faceNormal().view()));
+  pipeline.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);
 }

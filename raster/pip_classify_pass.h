@@ -47,7 +47,7 @@ class PipClassifyPass {
                                  float sceneRadius);
 
  private:
-  gpu::ComputePipeline pipeline_;
+  gpu::SpecializedComputePipeline pipeline_;  // on texelReads()
 };
 
 }  // namespace penumbra::raster

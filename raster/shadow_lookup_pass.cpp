@@ -26,15 +26,16 @@ ShadowLookupPass::ShadowLookupPass(const gpu::Context& context)
 
 void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
                               const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight) const {
-  pipeline_.bind(cmd, gpu::Descriptors{}
-                          .storageImage(0, gbuffer.position().view())
-                          .storageImage(1, gbuffer.normal().view())
-                          .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
-                          .buffer(3, frame)
-                          .buffer(4, visibility)
-                          .buffer(5, shadowMap.texels())
-                          .storageImage(6, gbuffer.faceNormal().view()));
-  pipeline_.pushConstants(cmd, LookupPush{accumulateWeight});
+  const gpu::ComputePipeline& pipeline = pipeline_(shadowMap.hasTexelCopy());
+  pipeline.bind(cmd, gpu::Descriptors{}
+                         .storageImage(0, gbuffer.position().view())
+                         .storageImage(1, gbuffer.normal().view())
+                         .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
+                         .buffer(3, frame)
+                         .buffer(4, visibility)
+                         .buffer(5, shadowMap.texels())
+                         .storageImage(6, gbuffer.faceNormal().view()));
+  pipeline.pushConstants(cmd, LookupPush{accumulateWeight});
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -17,7 +17,7 @@ class ShadowLookupPass {
               const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight = 0.0f) const;
 
  private:
-  gpu::ComputePipeline pipeline_;
+  gpu::SpecializedComputePipeline pipeline_;  // on texelReads()
 };
 
 }  // namespace penumbra::raster

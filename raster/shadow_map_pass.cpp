@@ -38,7 +38,6 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   info.resolution = settings.resolution;
   info.normalOffset = settings.normalOffsetTexels;
   info.slopeBias = settings.depthBiasSlope;
-  info.texelBuffer = settings.reads == ShadowMapSettings::Reads::Buffer ? 1u : 0u;
   info.faceCount = 1;
 
   if (light.type == LIGHT_DIRECTIONAL) {

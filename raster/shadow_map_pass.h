@@ -24,13 +24,12 @@ struct ShadowMapSettings {
   float normalOffsetTexels = 0.75f;
   // How compute passes read the light's depth maps (shadow map, thin mask): Texture, as sampled
   // images (right on a GPU), or Buffer, from a copy in a storage buffer (on lavapipe a sampled
-  // fetch costs several storage loads); Auto picks Buffer on CPU devices (texelReads()).
+  // fetch costs several storage loads); Auto picks Buffer on CPU devices (bufferReads()).
   enum class Reads { Auto, Texture, Buffer } reads = Reads::Auto;
 };
 
-// settings.reads resolved for this device: true when passes read depths from texel buffers.
-// makeShadowMapInfo tells the shaders to read them only for Reads::Buffer (the Renderer resolves
-// Auto first); passes copy texels for Auto too, so an info never points at a missing copy.
+// settings.reads resolved for this device: true when the maps get texel copies, which the passes
+// then read (their pipelines are specialized on it: hasTexelCopy()).
 bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings);
 // The texel copy of a light depth map for those reads (a 4-byte stand-in when they are off).
 gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings);
@@ -52,6 +51,7 @@ class ShadowMapPass {
   const gpu::Image& depth() const { return depth_; }
   // One float per texel, face after face; a small stand-in when the passes read the image.
   const gpu::Buffer& texels() const { return texels_; }
+  bool hasTexelCopy() const { return texelCopy(texels_, depth_) != nullptr; }
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
 

@@ -55,6 +55,7 @@ class ThinTrianglePass {
   vk::DeviceSize bytes() const;  // mask, list and draws
   const gpu::Image& depth() const { return depth_; }  // D32, one layer per face, arrayed view
   const gpu::Buffer& texels() const { return texels_; }  // see ShadowMapPass::texels
+  bool hasTexelCopy() const { return texelCopy(texels_, depth_) != nullptr; }
   vk::Sampler sampler() const { return *sampler_; }
   std::uint32_t faceCount() const { return depth_.desc().layers; }
   const ThinTriangleSettings& thinSettings() const { return thin_; }
@@ -84,5 +85,10 @@ class ThinTrianglePass {
   std::unique_ptr<gpu::Buffer> list_;   // indices, faceCount * capacity_ * 3
   gpu::Buffer draws_;                 // THIN_DRAW_WORDS uints per face
 };
+
+// Whether passes that read the shadow map and its thin mask (thin may be null) read texel copies.
+inline bool texelReads(const ShadowMapPass& shadowMap, const ThinTrianglePass* thin) {
+  return shadowMap.hasTexelCopy() && (!thin || thin->hasTexelCopy());
+}
 
 }  // namespace penumbra::raster

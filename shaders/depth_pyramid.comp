@@ -22,12 +22,11 @@ float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane,
 // 4x4 window of loads (16 instead of 36).
 float edgeTile(ivec2 q, uint face) {
   int res = int(push.resolution);
-  bool texelBuffer = push.texelBuffer != 0u;
   float raw[16], lin[16];
   for (int y = 0; y < 4; ++y) {
     for (int x = 0; x < 4; ++x) {
       ivec2 r = clamp(q + ivec2(x - 1, y - 1), ivec2(0), ivec2(res - 1));
-      raw[y * 4 + x] = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, r, face, res);
+      raw[y * 4 + x] = LIGHT_TEXEL(shadowMap, shadowTexels, r, face, res);
       lin[y * 4 + x] = linearDepth(raw[y * 4 + x]);
     }
   }
@@ -46,7 +45,7 @@ float edgeTile(ivec2 q, uint face) {
         }
       }
       float blocker = delta > push.deltaThreshold ? nearest : 1.0;
-      if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, c, face, res));
+      if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(thinMask, thinTexels, c, face, res));
       tile = min(tile, blocker);
     }
   }

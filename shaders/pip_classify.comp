@@ -86,14 +86,14 @@ float axisDepthRate(vec4 clipDir) {
 // nearestRaw bounds the raw depths of t's 3x3 neighbourhood from below (0 when unknown): with
 // tp = t and no slope bias, a plane nowhere more than tol nearer than it rules every test out
 // unread, and a neighbour not nearer than p's plane at its centre needs no plane of its own.
-bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, bool texelBuffer, ivec2 t, float nearestRaw) {
+bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, ivec2 t, float nearestRaw) {
   int res = int(frame.shadow.resolution);
   vec4 c0 = viewProj * vec4(p, 1.0);
   float z0 = c0.z / c0.w;
   vec2 e0 = (c0.xy / c0.w * 0.5 + 0.5) * float(res);
   vec2 g = planeDepthGradient(p, nf, texel, viewProj, e0, z0);
   float slope = frame.shadow.slopeBias;
-#define DEPTH_AT(q) LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, clamp(q, ivec2(0), ivec2(res - 1)), face, res)
+#define DEPTH_AT(q) LIGHT_TEXEL(shadowMap, shadowTexels, clamp(q, ivec2(0), ivec2(res - 1)), face, res)
   ivec2 tp = clamp(ivec2(floor(e0)), ivec2(0), ivec2(res - 1));
   vec2 f = e0 - (vec2(tp) + 0.5);  // p from its texel's centre, in texels
   float raw = DEPTH_AT(tp);
@@ -181,14 +181,13 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
     }
     return 0u;
   }
-  bool texelBuffer = frame.shadow.texelBuffer != 0u;
-  float raw = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
+  float raw = LIGHT_TEXEL(shadowMap, shadowTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
   float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
 
   uint flags = 0u;
   float thinDepth = frame.shadow.farPlane;
   if (push.useThin != 0u) {  // the mask is dilated: this texel holds its 3x3 neighbourhood's nearest thin triangle
-    float thin = LIGHT_TEXEL(texelBuffer, thinMask, thinTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
+    float thin = LIGHT_TEXEL(thinMask, thinTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
     if (thin < ndc.z) flags |= PIP_THIN;
     thinDepth = linearDepth(thin);
   }
@@ -209,7 +208,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
   // from the face's border read the buffer copy at fixed offsets, without bounds tests.
   float rawMin = raw;
   float rawMax = raw;
-  if (interior && texelBuffer) {
+  if (interior && kTexelBuffer) {
     int centre = (int(face) * res + t.y) * res + t.x;
     for (int y = -1; y <= 1; ++y) {
       for (int x = -1; x <= 1; ++x) {
@@ -226,7 +225,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
           if (kind == SHADOW_CUBE) flags |= PIP_SEAM;
           continue;
         }
-        float sq = LIGHT_TEXEL(texelBuffer, shadowMap, shadowTexels, q, face, res);
+        float sq = LIGHT_TEXEL(shadowMap, shadowTexels, q, face, res);
         rawMin = min(rawMin, sq);
         rawMax = max(rawMax, sq);
       }
@@ -259,11 +258,11 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
       vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
       inMask = window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE);
     }
-    if (!inMask && vis > 0.0 && interior) inMask = layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin);
+    if (!inMask && vis > 0.0 && interior) inMask = layerOver(p, faceNormalAt(pix), texel, viewProj, face, t, rawMin);
     return write(index, vis, inMask ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
   if (s >= lo && flags == 0u && interior &&
-      layerOver(p, faceNormalAt(pix), texel, viewProj, face, texelBuffer, t, rawMin)) flags |= PIP_CONTACT;
+      layerOver(p, faceNormalAt(pix), texel, viewProj, face, t, rawMin)) flags |= PIP_CONTACT;
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;

@@ -37,7 +37,7 @@ const vec2 kPoisson[16] = vec2[](
 float litAt(ivec2 t, uint face, float depth) {
   int res = int(frame.shadow.resolution);
   t = clamp(t, ivec2(0), ivec2(res - 1));
-  return depth <= LIGHT_TEXEL(frame.shadow.texelBuffer != 0u, shadowMap, shadowTexels, t, face, res) ? 1.0 : 0.0;
+  return depth <= LIGHT_TEXEL(shadowMap, shadowTexels, t, face, res) ? 1.0 : 0.0;
 }
 
 void store(uint index, float v) {
@@ -75,7 +75,7 @@ float pcss(Receiver r, uint face, mat2 rot) {
     ivec2 t = ivec2(floor(centre + searchRadius * (rot * kPoisson[i])));
     int res = int(frame.shadow.resolution);
     t = clamp(t, ivec2(0), ivec2(res - 1));
-    float z = LIGHT_TEXEL(frame.shadow.texelBuffer != 0u, shadowMap, shadowTexels, t, face, res);
+    float z = LIGHT_TEXEL(shadowMap, shadowTexels, t, face, res);
     if (z < depthAt(r, t)) {
       blockerSum += linearShadowDepth(kind, nearPlane, farPlane, z);
       blockers += 1.0;

@@ -27,9 +27,8 @@ struct ShadowMapInfo {
   float normalOffset;  // receiver offset along its normal, in texels
   float nearPlane;     // of every face: NDC depth 0 ..
   float farPlane;      // .. NDC depth 1 (linear for ortho, perspective otherwise)
-  uint texelBuffer;    // 1: compute passes read the maps' texel buffers, not the images (light_texels.glsl)
   float slopeBias;     // the maps' slope-scaled depth bias factor (0 by default: the normal offset keeps acne away)
-  uint pad0, pad1, pad2;
+  uint pad0, pad1, pad2, pad3;
 };
 
 // std430.

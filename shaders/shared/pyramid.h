@@ -30,8 +30,7 @@ struct PyramidPush {  // 48 bytes
   uint kind;        // SHADOW_* of the map, for linear depths
   float nearPlane, farPlane;
   float deltaThreshold;  // linear depth edge threshold (as PipPush.deltaThreshold)
-  uint texelBuffer;      // ShadowMapInfo::texelBuffer
-  uint pad0, pad1, pad2;
+  uint pad0, pad1, pad2, pad3;
 };
 
 PN_END
