@@ -134,7 +134,7 @@ uint write(uint index, float vis, uint flags, float maxDistance, out float rayEn
   rayEnd = maxDistance;
   if (flags != 0u) {
     smVisibility[index] = vis;
-    rayMax[index] = maxDistance;
+    if (push.appendList == 0u) rayMax[index] = maxDistance;  // for the compaction; the list carries it
   }
   return flags;
 }
@@ -316,12 +316,10 @@ void main() {
   }
   first = subgroupMax(first);  // the elected lane's, the others hold 0
   if (flagged == 0u) return;
-  ShadingPoint point;
-  point.position = position.xyz;
-  point.pixel = index;
-  point.normal = n;
-  point.spp = frame.spp;
-  point.rayMax = rayEnd;
-  point.pad0 = point.pad1 = point.pad2 = 0u;
-  points[first + slot] = point;
+  // Member by member: the padding is not written (on lavapipe each word is a scatter).
+  points[first + slot].position = position.xyz;
+  points[first + slot].pixel = index;
+  points[first + slot].normal = n;
+  points[first + slot].spp = frame.spp;
+  points[first + slot].rayMax = rayEnd;
 }
