@@ -68,8 +68,8 @@ class ComputePipeline {
 };
 
 // A compute shader with one boolean specialization constant (constant_id 0): a choice fixed for
-// a whole dispatch that would otherwise be a branch in every invocation (lavapipe runs both sides
-// of such a branch). One pipeline per value, each created when first used.
+// a whole dispatch that would otherwise be made in every invocation (where that compiles to a
+// select, lavapipe pays for both sides). One pipeline per value, each created when first used.
 class SpecializedComputePipeline {
  public:
   SpecializedComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
