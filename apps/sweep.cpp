@@ -319,6 +319,7 @@ SweepResult runSweep(const Sweep& sweep) {
           {"pip_miss_fraction", stats["pip_miss_fraction"]},
           {"penumbra_miss_fraction", stats["penumbra_miss_fraction"]},
           {"trace_bytes_simulated", findKey(stats, "trace_bytes_simulated")},
+          {"trace_bytes_per_ray", findKey(stats, "trace_bytes_per_ray")},
           {"passes", passes},
           {"stats", stats},
           {"run", run},
@@ -453,7 +454,7 @@ void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
       "scene", "triangles", "width", "height", "light_size", "spp", "reference_spp", "method", "label", "params_label",
       "tracer", "shadow_map_res", "pcf_kernel", "pip_delta", "msm_maps", "time_ms", "time_min_ms", "time_max_ms", "runs",
       "warmup", "speedup_vs_ref", "pip_fraction", "rays_traced", "node_visits_per_ray", "wrong_pixel_fraction", "rmse",
-      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "temporal_change", "ref_temporal_change", "passes", "machine",
+      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "trace_bytes_per_ray", "temporal_change", "ref_temporal_change", "passes", "machine",
       "cpu_threads", "device", "driver"};
   auto field = [](const nlohmann::json& v) -> std::string {
     if (v.is_null()) return "";

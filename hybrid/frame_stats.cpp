@@ -66,6 +66,9 @@ nlohmann::json FrameStats::toJson() const {
           {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
           {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
           {"trace_bytes_simulated", orNull(traceBytesSimulated)},
+          {"trace_bytes_per_ray", traceBytesSimulated && raysTraced && *raysTraced
+                                      ? nlohmann::json(double(*traceBytesSimulated) / double(*raysTraced))
+                                      : nlohmann::json(nullptr)},
           {"trace_lines_simulated", orNull(traceLinesSimulated)},
           {"raster_bytes_estimated", orNull(rasterBytesEstimated)},
           {"bandwidth", bandwidth}};

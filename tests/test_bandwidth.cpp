@@ -206,6 +206,9 @@ void expectReplayMatchesKernel(SceneRun& run, const Frame& frame) {
   EXPECT_EQ(bw["invocations"].get<std::uint64_t>(), *frame.stats.pipPixels);
   ASSERT_TRUE(frame.stats.traceBytesSimulated && frame.stats.rasterBytesEstimated);
   EXPECT_EQ(*frame.stats.traceBytesSimulated, bw["trace_bytes"].get<std::uint64_t>());
+  // Per ray, next to the total (a list in coherent order moves fewer bytes per ray).
+  EXPECT_DOUBLE_EQ(frame.stats.toJson()["trace_bytes_per_ray"].get<double>(),
+                   double(*frame.stats.traceBytesSimulated) / double(*frame.stats.raysTraced));
   // Every node visit fetches at least... nothing less than one sector per warp-wide load, and at
   // most two sectors per lane.
   const std::uint64_t nodeSectors = bw["streams"]["nodes"]["sectors"].get<std::uint64_t>();
@@ -246,6 +249,7 @@ TEST(BandwidthReplay, NodeVisitsEqualTheGpuCountersOnCourtyard) {
   EXPECT_TRUE(off.stats.bandwidth.is_null());
   EXPECT_FALSE(off.stats.traceBytesSimulated);
   EXPECT_TRUE(off.stats.toJson()["trace_bytes_simulated"].is_null());
+  EXPECT_TRUE(off.stats.toJson()["trace_bytes_per_ray"].is_null());
   expectValidationSilent();
 }
 
