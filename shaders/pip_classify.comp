@@ -83,10 +83,9 @@ float axisDepthRate(vec4 clipDir) {
 //    from q and the texels beyond it) that lies nearer than p's plane both at q and, extended, at
 //    p. A crease of one surface is nearer at one end only (its planes cross between p and q), so
 //    it is not a layer.
-// nearestRaw bounds the raw depths of t's 3x3 neighbourhood from below (0 when unknown): with
-// tp = t and no slope bias, a plane nowhere more than tol nearer than it rules every test out
-// unread, and a neighbour not nearer than p's plane at its centre needs no plane of its own.
-bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, ivec2 t, float nearestRaw) {
+// Without a slope bias, a neighbour not nearer than p's plane at its centre needs no plane of its
+// own (its reads are skipped).
+bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, ivec2 t) {
   int res = int(frame.shadow.resolution);
   vec4 c0 = viewProj * vec4(p, 1.0);
   float z0 = c0.z / c0.w;
@@ -102,7 +101,6 @@ bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, ivec2 t, 
   float tol = PIP_LAYER_TOLERANCE * push.depthMargin * ndcPerUnit + 4.0 * (uintBitsToFloat(floatBitsToUint(raw) + 1u) - raw);
   float centreBias = slope * max(abs(g.x), abs(g.y));
   float atCentre = z0 - dot(g, f);  // p's plane at tp's centre
-  if (slope == 0.0 && tp == t && atCentre + abs(g.x) + abs(g.y) - nearestRaw <= tol) return false;
   if (atCentre - (raw - centreBias) > tol) return true;
   // The texel sm read (the normal offset may move it off p's own): its surface nearer than p's
   // plane there is what made a lit receiver dark, or would make it so.
@@ -258,11 +256,11 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, out float rayEnd) {
       vec2 window = edgeWithinReach(offsetP, viewProj, t, face, d);
       inMask = window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE);
     }
-    if (!inMask && vis > 0.0 && interior) inMask = layerOver(p, faceNormalAt(pix), texel, viewProj, face, t, rawMin);
+    if (!inMask && vis > 0.0 && interior) inMask = layerOver(p, faceNormalAt(pix), texel, viewProj, face, t);
     return write(index, vis, inMask ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
   if (s >= lo && flags == 0u && interior &&
-      layerOver(p, faceNormalAt(pix), texel, viewProj, face, t, rawMin)) flags |= PIP_CONTACT;
+      layerOver(p, faceNormalAt(pix), texel, viewProj, face, t)) flags |= PIP_CONTACT;
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;
