@@ -59,8 +59,7 @@ float linearDepth(float z) {
 }
 // Its inverse: the raw (NDC) depth of linear depth z.
 float rawDepth(float z) {
-  float near = frame.shadow.nearPlane, far = frame.shadow.farPlane;
-  return frame.shadow.kind == SHADOW_ORTHO ? (z - near) / (far - near) : (far - near * far / z) / (far - near);
+  return rawShadowDepth(frame.shadow.kind, frame.shadow.nearPlane, frame.shadow.farPlane, z);
 }
 
 // Depth along the face axis, from clip coordinates (affine in world space for both projections).

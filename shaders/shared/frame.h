@@ -60,6 +60,11 @@ PN_FN float linearShadowDepth(uint kind, float nearPlane, float farPlane, float 
   if (kind == SHADOW_ORTHO) return nearPlane + z * (farPlane - nearPlane);
   return nearPlane * farPlane / (farPlane - z * (farPlane - nearPlane));
 }
+// Its inverse: the NDC depth of distance w along the face's axis.
+PN_FN float rawShadowDepth(uint kind, float nearPlane, float farPlane, float w) {
+  if (kind == SHADOW_ORTHO) return (w - nearPlane) / (farPlane - nearPlane);
+  return (farPlane - nearPlane * farPlane / w) / (farPlane - nearPlane);
+}
 
 // World size of one shadow-map texel at p.
 PN_FN float shadowTexelWorld(uint kind, float texelWorld, vec4 lightPosition, vec3 p) {
