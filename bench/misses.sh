@@ -4,7 +4,8 @@
 # view and in a close view the model fills, at 512^2 and 1024^2, hard (point-like light) and soft
 # (light 0.1, 16 samples): PIP %, sm and srt wrong %, pip_miss and penumbra_miss, and
 # `compare --explain-misses`' causes of the misses. Accuracy only (one frame, no timing).
-# With BEFORE=path/to/penumbra every configuration also runs on that binary (rows marked before).
+# With BEFORE=path/to/penumbra every configuration also runs on that binary (rows marked before);
+# AFTER=path/to/penumbra replaces build/bin/penumbra (a copy keeps a long run apart from rebuilds).
 # Writes bench/results/misses.{csv,md} and misses.machine.txt (RESULTS=path/prefix writes elsewhere).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -18,7 +19,7 @@ n=0
 
 # one BUILD LABEL VIEW RES KIND [compare options...]
 one() {
-  local build=$1 label=$2 view=$3 res=$4 kind=$5 bin=build/bin/penumbra extra=()
+  local build=$1 label=$2 view=$3 res=$4 kind=$5 bin=${AFTER:-build/bin/penumbra} extra=()
   shift 5
   [ "$build" = before ] && bin=$BEFORE
   [ "$kind" = soft ] && extra=(--light-size 0.1 --spp 16)
