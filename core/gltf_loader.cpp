@@ -171,6 +171,7 @@ struct Converter {
   const gltf::NodeAnimations& animations;
   std::vector<char> onPath;  // cycle guard: a node that is its own ancestor would recurse forever
   std::vector<int> chain;    // the nodes from the root to the one being visited
+  std::size_t animatedOnChain = 0;  // how many of them are animated
   struct Animated {
     std::size_t mesh;
     std::vector<int> chain;
@@ -224,9 +225,7 @@ struct Converter {
       out.baseColor = rgb(model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
     }
     scene.meshes.push_back(std::move(out));
-    if (std::any_of(chain.begin(), chain.end(), [&](int n) { return animations.animates(n); })) {
-      animated.push_back({scene.meshes.size() - 1, chain});
-    }
+    if (animatedOnChain > 0) animated.push_back({scene.meshes.size() - 1, chain});
   }
 
   void addLight(const tinygltf::Node& node, const glm::mat4& world) {
@@ -257,7 +256,14 @@ struct Converter {
     scene.lights.push_back(light);
   }
 
-  void visit(int index, const glm::mat4& parent) {
+  // A node entered on the way down (after its parent): its own content, then its children.
+  struct Open {
+    int index;
+    glm::mat4 world;
+    std::size_t nextChild = 0;
+  };
+
+  void enter(int index, const glm::mat4& parent, std::vector<Open>& open) {
     if (index < 0 || std::size_t(index) >= model.nodes.size()) {
       fail(path, "node " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
     }
@@ -265,6 +271,7 @@ struct Converter {
     if (++visits > 1000000) fail(path, "node hierarchy expands to over a million instances", "flatten the scene");
     const tinygltf::Node& node = model.nodes[std::size_t(index)];
     chain.push_back(index);
+    if (animations.animates(index)) ++animatedOnChain;
     const glm::mat4 world = parent * glm::mat4(gltf::localTransform(node));
     if (node.mesh >= 0) {
       if (std::size_t(node.mesh) >= model.meshes.size()) {
@@ -285,9 +292,28 @@ struct Converter {
     }
     addLight(node, world);
     onPath[std::size_t(index)] = 1;
-    for (int child : node.children) visit(child, world);
-    onPath[std::size_t(index)] = 0;
-    chain.pop_back();
+    open.push_back({index, world});
+  }
+
+  // Depth first from root with a stack of its own: a file can nest nodes deeper than the call
+  // stack goes (20,000 levels crashed the recursive walk).
+  void visit(int root) {
+    std::vector<Open> open;
+    enter(root, glm::mat4(1.0f), open);
+    while (!open.empty()) {
+      Open& top = open.back();
+      const std::vector<int>& children = model.nodes[std::size_t(top.index)].children;
+      if (top.nextChild < children.size()) {
+        const int child = children[top.nextChild++];
+        const glm::mat4 parent = top.world;  // enter() grows `open`, which moves `top`
+        enter(child, parent, open);
+        continue;
+      }
+      onPath[std::size_t(top.index)] = 0;
+      if (animations.animates(top.index)) --animatedOnChain;
+      chain.pop_back();
+      open.pop_back();
+    }
   }
 
   std::vector<int> roots() const {
@@ -310,7 +336,7 @@ struct Converter {
 
   void run() {
     onPath.assign(model.nodes.size(), 0);
-    for (int root : roots()) visit(root, glm::mat4(1.0f));
+    for (int root : roots()) visit(root);
     // Rest positions are taken by cleanScene (after it cleaned the mesh), so they match the mesh.
     for (const Animated& a : animated) {
       const std::optional<std::vector<RigidKey>> keys =

@@ -25,13 +25,13 @@ class Buffer {
   template <typename T>
   void upload(std::span<const T> values) {
     checkFits(values.size_bytes());
-    std::memcpy(mapped_, values.data(), values.size_bytes());
+    if (!values.empty()) std::memcpy(mapped_, values.data(), values.size_bytes());  // an empty span's data() may be null
   }
   template <typename T>
   std::vector<T> download(std::size_t count) const {
     checkFits(count * sizeof(T));
     std::vector<T> out(count);
-    std::memcpy(out.data(), mapped_, count * sizeof(T));
+    if (count != 0) std::memcpy(out.data(), mapped_, count * sizeof(T));  // an empty vector's data() may be null
     return out;
   }
 

@@ -463,6 +463,27 @@ TEST(GltfLoader, NodeCycleRefused) {
   expectInputError([&] { penumbra::loadScene(writeGltf(dir, doc, bin, "loop")); }, {"loop.gltf", "ancestor"});
 }
 
+// A hierarchy deeper than the call stack goes (issue 20: 20,000 levels crashed a recursive walk):
+// 100,000 nested nodes, each moved by 0.001 in x, the mesh at the bottom.
+TEST(GltfLoader, DeepHierarchyLoads) {
+  TempDir dir;
+  Bytes bin;
+  json doc = meshDoc(kTriangle, {0, 1, 2}, bin);
+  constexpr int kDepth = 100000;
+  json nodes = json::array();
+  for (int i = 0; i < kDepth; ++i) {
+    json node = {{"translation", {0.001, 0.0, 0.0}}};
+    if (i + 1 < kDepth) node["children"] = {i + 1};
+    else node["mesh"] = 0;
+    nodes.push_back(node);
+  }
+  doc["nodes"] = nodes;
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin, "deep"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_NEAR(s.meshes[0].positions[0].x, 100.0f, 0.05f);  // float sums of 100,000 steps
+  EXPECT_NEAR(s.meshes[0].positions[1].x, 101.0f, 0.05f);
+}
+
 namespace {
 const char* kCubeObj =
     "mtllib cube.mtl\no cube\n"

@@ -331,7 +331,9 @@ TEST(Selective, ClassificationListsWhatCompactionLists) {
       EXPECT_EQ(a.visibility, b.visibility);
       EXPECT_EQ(a.pip, b.pip);
       EXPECT_EQ(a.shadowMapVisibility, b.shadowMapVisibility);
-      if (size == 0.0f) EXPECT_EQ(a.shadowMapVisibility, appended.render("sm").visibility);
+      if (size == 0.0f) {
+        EXPECT_EQ(a.shadowMapVisibility, appended.render("sm").visibility);
+      }
     }
   }
   expectValidationSilent();
