@@ -42,24 +42,49 @@ void requireFinite(float value, const char* option) {
   if (!std::isfinite(value)) throw InputError(std::string(option) + " must be a finite number");
 }
 
-// Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating.
-std::uint64_t estimateBytes(const RenderSettings& s, const Scene& scene, bool usesLineSpace) {
+// Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating,
+// by what drives it.
+struct MemoryEstimate {
+  std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, lineSpace = 0;
+  std::uint64_t total() const { return lightMaps + perPixel + geometry + lineSpace; }
+  // The largest term, and what lowers it.
+  std::string largest(const RenderSettings& s, const Scene& scene) const {
+    const auto mib = [](std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+    const std::uint64_t top = std::max({lightMaps, perPixel, geometry, lineSpace});
+    if (top == perPixel) {
+      return "the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame's buffers (" + mib(perPixel) +
+             "): lower --res";
+    }
+    if (top == lightMaps) {
+      return "the light's maps at " + std::to_string(s.shadowMap.resolution) + "^2 (" + mib(lightMaps) +
+             "): lower --shadow-map-res";
+    }
+    if (top == geometry) {
+      return "the scene's " + std::to_string(scene.triangleCount()) + " triangles (" + mib(geometry) +
+             "): load a smaller scene or level";
+    }
+    return "the line space's pools (" + mib(lineSpace) + "): lower --linespace-budget";
+  }
+};
+
+MemoryEstimate estimateBytes(const RenderSettings& s, const Scene& scene, bool usesLineSpace) {
+  MemoryEstimate e;
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
   const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
   // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map);
   // the corner maps (--penumbra-maps 5) add one more map and pyramid.
   const std::uint64_t maps = s.pip.penumbraMaps == 5 ? 4 : 3;
-  const std::uint64_t lightMaps = face * 6 * maps + face * 6 / 3 * (maps - 2);
-  const std::uint64_t gbuffer = pixels * (16 + 16 + 4 + 4 + 4) * 2;  // images (with depth) + readbacks
-  // visibility, colour, sm visibility, trace flags, ray max, and the compacted ShadingPoints
-  const std::uint64_t frame = pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
+  e.lightMaps = face * 6 * maps + face * 6 / 3 * (maps - 2);
+  // G-buffer images (with depth) and readbacks; visibility, colour, sm visibility, trace flags,
+  // ray max, and the compacted ShadingPoints
+  e.perPixel = pixels * (16 + 16 + 4 + 4 + 4) * 2 + pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
   // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)
-  const std::uint64_t geometry = scene.triangleCount() * (3 * 4 + 3 * 36 + 48 + 64);
+  e.geometry = scene.triangleCount() * (3 * 4 + 3 * 36 + 48 + 64);
   // The line space refuses itself before allocating when its pools exceed its budget, so an
   // explicit --linespace-budget is what it may add; the default (a quarter of the available
   // memory) is left out, as it adapts to what is free.
-  const std::uint64_t lineSpace = usesLineSpace ? s.lineSpace.budgetBytes : 0;
-  return lightMaps + gbuffer + frame + geometry + lineSpace;
+  e.lineSpace = usesLineSpace ? s.lineSpace.budgetBytes : 0;
+  return e;
 }
 
 std::uint64_t physicalMemoryBytes() {
@@ -206,10 +231,14 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 
-  const std::uint64_t need = estimateBytes(s.settings, s.scene, lineSpace), have = physicalMemoryBytes();
-  if (need > have / 2) {
-    throw InputError("this run needs about " + std::to_string(need >> 20) + " MiB of GPU buffers but the machine has " +
-                     std::to_string(have >> 20) + " MiB; lower --res or --shadow-map-res");
+  // lavapipe's device memory is host memory: half of it stays for the driver, the host copies and
+  // the reference tracer.
+  const MemoryEstimate need = estimateBytes(s.settings, s.scene, lineSpace);
+  const std::uint64_t have = physicalMemoryBytes(), limit = have / 2;
+  if (need.total() > limit) {
+    throw InputError("this run needs about " + std::to_string(need.total() >> 20) + " MiB of GPU buffers, over the limit of " +
+                     std::to_string(limit >> 20) + " MiB (half of this machine's " + std::to_string(have >> 20) +
+                     " MiB); most of it is " + need.largest(s.settings, s.scene));
   }
   if (!c.saveView.empty()) {
     writeViewFile(c.saveView,

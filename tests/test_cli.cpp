@@ -46,7 +46,10 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"compare --methods srt --tracer nosuch --scene builtin:square", "--tracer"},
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
-      {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "MiB"},
+      // Refused before allocating, naming the limit applied and the option that lowers the largest term.
+      {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "lower --res"},
+      {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "lower --shadow-map-res"},
+      {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "half of this machine's"},
   };
   for (const auto& [args, mention] : cases) {
     const Result r = run(args + " --out " + out);
