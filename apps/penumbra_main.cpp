@@ -68,28 +68,30 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
     }
   }
 
-  // Everything rendered: only now touch the output folder.
-  std::filesystem::create_directories(config.outDir);
-  for (const Frame& frame : frames) writeFrame(config.outDir, frame, context_json);
+  // Everything rendered: only now write, into a staging folder that becomes the output folder whole.
+  StagedOutput out(config.outDir);
+  const std::string& dir = out.path();
+  for (const Frame& frame : frames) writeFrame(dir, frame, context_json);
   if (compare) {
     nlohmann::json metrics{{"scene", context_json}, {"reference", frames[0].stats.toJson()}, {"methods", nlohmann::json::array()}};
     metrics["scene"]["wrong_pixel_threshold"] = threshold;
     metrics["scene"]["heatmap_full_scale"] = heatmapScale;
     metrics["scene"]["flip_pixels_per_degree"] = FlipSettings{}.pixelsPerDegree;
     for (std::size_t i = 1; i < frames.size(); ++i) {
-      writeHeatmap(config.outDir, frames[i], frames[0], heatmapScale);
+      writeHeatmap(dir, frames[i], frames[0], heatmapScale);
       if (missReports[i]) {
-        writePngRgba8(config.outDir + "/" + frames[i].stats.method + ".misses.png", int(frames[i].width),
+        writePngRgba8(dir + "/" + frames[i].stats.method + ".misses.png", int(frames[i].width),
                       int(frames[i].height), missImage(*missReports[i], frames[0].covered));
       }
-      writePngRgba8(config.outDir + "/" + frames[i].stats.method + ".flip.png", int(frames[i].width),
+      writePngRgba8(dir + "/" + frames[i].stats.method + ".flip.png", int(frames[i].width),
                     int(frames[i].height), flipHeatmap(flipMaps[i], frames[0].covered));
       metrics["methods"].push_back(frames[i].stats.toJson());
     }
-    writeJson(config.outDir + "/metrics.json", metrics);
+    writeJson(dir + "/metrics.json", metrics);
     if (!config.csv.empty()) appendCsv(config.csv, frames, context_json);
-    if (!config.noReport) writeReport("compare", config.outDir);  // report.html: images, metrics, chart
+    if (!config.noReport) writeReport("compare", dir);  // report.html: images, metrics, chart
   }
+  out.commit();
   printSummary(frames, std::cout);
   std::cout << "wrote " << config.outDir << "/\n";
 

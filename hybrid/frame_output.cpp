@@ -1,7 +1,12 @@
 #include "hybrid/frame_output.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <vector>
+
+#include <unistd.h>
 
 #include "core/image_io.h"
 #include "core/metrics.h"
@@ -40,4 +45,40 @@ void writeHeatmap(const std::string& dir, const Frame& frame, const Frame& refer
   writePngRgba8(dir + "/" + frame.stats.method + ".heatmap.png", int(frame.width), int(frame.height), rgba);
 }
 
+namespace fs = std::filesystem;
+
+namespace {
+std::string stagingFor(const std::string& dir) {
+  fs::path p = fs::path(dir).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();  // "out/": beside out, not in it
+  return p.string() + ".partial-" + std::to_string(getpid());
+}
+}  // namespace
+
+StagedOutput::StagedOutput(const std::string& dir) : dir_(dir), staging_(stagingFor(dir)) {
+  fs::remove_all(staging_);
+  fs::create_directories(staging_);
+}
+
+StagedOutput::~StagedOutput() {
+  std::error_code ignored;
+  if (!committed_) fs::remove_all(staging_, ignored);
+}
+
+void StagedOutput::commit() {
+  fs::create_directories(dir_);
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(staging_)) {
+    const fs::path to = fs::path(dir_) / fs::relative(e.path(), staging_);
+    if (e.is_directory()) fs::create_directories(to);
+    else files.push_back(e.path());
+  }
+  // metrics.json last: its presence says the folder is complete.
+  std::stable_partition(files.begin(), files.end(), [](const fs::path& f) { return f.filename() != "metrics.json"; });
+  for (const fs::path& f : files) fs::rename(f, fs::path(dir_) / fs::relative(f, staging_));
+  fs::remove_all(staging_);
+  committed_ = true;
+}
+
 }  // namespace penumbra
+

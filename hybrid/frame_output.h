@@ -18,4 +18,22 @@ void writeHeatmap(const std::string& dir, const Frame& frame, const Frame& refer
 
 void writeJson(const std::string& path, const nlohmann::json& value);
 
+// A run's output folder, written all at once: files go to a staging folder beside it
+// (DIR.partial-PID) and move into DIR, metrics.json last, when commit() runs. A run that fails
+// leaves DIR as it was; one killed meanwhile leaves the staging folder, never a DIR whose images
+// look complete beside no metrics.
+class StagedOutput {
+ public:
+  explicit StagedOutput(const std::string& dir);
+  ~StagedOutput();  // removes the staging folder unless committed
+  StagedOutput(const StagedOutput&) = delete;
+  StagedOutput& operator=(const StagedOutput&) = delete;
+  const std::string& path() const { return staging_; }  // where the run writes
+  void commit();
+
+ private:
+  std::string dir_, staging_;
+  bool committed_ = false;
+};
+
 }  // namespace penumbra

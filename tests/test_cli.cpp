@@ -11,6 +11,7 @@
 
 #include "cli_fixture.h"
 #include "core/image_io.h"
+#include "hybrid/frame_output.h"
 
 namespace fs = std::filesystem;
 
@@ -100,6 +101,33 @@ TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
     EXPECT_LT(m["error"]["wrong_pixel_fraction"].get<double>(), 0.05) << name;
   }
   EXPECT_TRUE(fs::exists(dir_ / "out" / "ref.png"));
+  // Written in a staging folder beside it and moved in whole: none is left behind.
+  for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+  }
+}
+
+// A run's output folder is written whole or not at all (issue 20): what a run that stops before
+// commit() wrote disappears, and committing moves every file, in subfolders too.
+TEST_F(Cli, StagedOutputIsWholeOrNothing) {
+  const fs::path out = dir_ / "staged";
+  {
+    penumbra::StagedOutput staged(out.string());
+    std::ofstream(staged.path() + "/a.png") << "a";
+    EXPECT_FALSE(fs::exists(out));
+  }  // not committed: a failed or interrupted run
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator{}), 0);
+  {
+    penumbra::StagedOutput staged(out.string() + "/");
+    fs::create_directories(staged.path() + "/charts");
+    std::ofstream(staged.path() + "/charts/c.png") << "c";
+    std::ofstream(staged.path() + "/metrics.json") << "{}";
+    staged.commit();
+  }
+  EXPECT_EQ(slurp(out / "charts" / "c.png"), "c");
+  EXPECT_EQ(slurp(out / "metrics.json"), "{}");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator{}), 1);  // out only
 }
 
 TEST_F(Cli, SavedViewReproducesTheImageBitForBit) {
