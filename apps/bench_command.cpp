@@ -107,9 +107,32 @@ BenchCommand::BenchCommand(CLI::App& app) {
       ->capture_default_str();
   command_->add_flag("--no-images", noImages_, "Do not write the images of each method's first configuration");
   command_->add_flag("--no-report", noReport_, "Do not run report.py (charts and report.html)");
+  command_->add_option("--shard", shard_,
+                       "K/N: run configurations K, K+N, K+2N, ... of the sweep (1-based; each with its group's "
+                       "reference), for splitting one sweep over several machines");
+  command_->add_option("--merge", merge_,
+                       "Instead of a sweep: combine the output folders of its N shards (comma-separated) into --out, "
+                       "as one run would have written it")
+      ->delimiter(',');
 }
 
 int BenchCommand::run() {
+  if (!merge_.empty()) {
+    write(mergeBench(merge_, base_.outDir));
+    return 0;
+  }
+  std::uint32_t shardIndex = 0, shardCount = 1;
+  if (!shard_.empty()) {
+    const std::size_t slash = shard_.find('/');
+    const std::string k = shard_.substr(0, slash), n = slash == std::string::npos ? "" : shard_.substr(slash + 1);
+    const auto [kEnd, kErr] = std::from_chars(k.data(), k.data() + k.size(), shardIndex);
+    const auto [nEnd, nErr] = std::from_chars(n.data(), n.data() + n.size(), shardCount);
+    if (kErr != std::errc() || nErr != std::errc() || kEnd != k.data() + k.size() || nEnd != n.data() + n.size() ||
+        shardCount == 0 || shardIndex < 1 || shardIndex > shardCount) {
+      throw InputError("--shard '" + shard_ + "' must be K/N with 1 <= K <= N, e.g. --shard 2/4");
+    }
+    --shardIndex;
+  }
   std::vector<std::string> methods;
   for (const std::string& m : splitValues(methods_, "--methods")) {
     makeMethod(m);  // unknown names fail here
@@ -141,27 +164,38 @@ int BenchCommand::run() {
   sweep.referenceSpp = referenceSpp_;
   sweep.temporalFrames = temporalFrames_;
   sweep.imagesDir = noImages_ ? "" : base_.outDir + "/frames";
+  sweep.shardIndex = shardIndex;
+  sweep.shardCount = shardCount;
 
   const SweepResult result = runSweep(sweep);
-  fs::create_directories(base_.outDir);
   std::ostringstream description;
   description << "Release build; " << base_.resolution << " pixels; warm-up " << base_.warmup << " frame(s), median of "
               << base_.repeat << " measured frame(s) (min-max in the tables); errors over covered pixels against the "
               << "Embree reference of the same scene and light (area lights: the reference uses the largest --spp of "
               << "the sweep unless --reference-spp says otherwise). Scenes as named; scaled scenes say in their name "
               << "whether they are tessellation levels or instanced layouts.";
-  const nlohmann::json bench{{"title", "Penumbra bench"},
-                             {"description", description.str()},
-                             {"machine", result.machine},
-                             {"device", result.device},
-                             {"driver", result.driver},
-                             {"rows", result.rows}};
+  nlohmann::json bench{{"title", "Penumbra bench"},
+                       {"description", description.str()},
+                       {"machine", result.machine},
+                       {"device", result.device},
+                       {"driver", result.driver},
+                       {"rows", result.rows}};
+  if (!shard_.empty()) {
+    std::size_t configurations = 0;  // the whole sweep's, so that a merge can tell shards of another sweep
+    for (float size : sweep.lightSizes) configurations += sweep.scenes.size() * sweep.configsFor(size).size();
+    bench["shard"] = {{"index", shardIndex + 1}, {"count", shardCount}, {"configurations", configurations}};
+  }
+  write(bench);
+  return 0;
+}
+
+void BenchCommand::write(const nlohmann::json& bench) const {
+  fs::create_directories(base_.outDir);
   writeJson(base_.outDir + "/bench.json", bench);
-  writeBenchCsv(base_.outDir + "/bench.csv", result.rows);
-  printSweepSummary(result.rows, std::cout);
+  writeBenchCsv(base_.outDir + "/bench.csv", bench["rows"]);
+  printSweepSummary(bench["rows"], std::cout);
   if (!noReport_) writeReport("bench", base_.outDir);
   std::cout << "wrote " << base_.outDir << "/ (bench.csv, bench.json" << (noReport_ ? "" : ", report.html") << ")\n";
-  return 0;
 }
 
 }  // namespace penumbra

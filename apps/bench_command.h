@@ -29,6 +29,10 @@ class BenchCommand {
   std::uint32_t referenceSpp_ = 0;
   std::uint32_t temporalFrames_ = 3;  // temporal stability frames per configuration
   bool noReport_ = false, noImages_ = false;
+  std::string shard_;                // "K/N": this run's share of the configurations
+  std::vector<std::string> merge_;  // the shards' output folders to combine, instead of a sweep
+  // bench.json, bench.csv, the summary and the report, in base_.outDir.
+  void write(const nlohmann::json& bench) const;
 };
 
 }  // namespace penumbra

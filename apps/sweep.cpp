@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -260,12 +261,21 @@ SweepResult runSweep(const Sweep& sweep) {
   gpu::Context context({.validate = sweep.base.validate});
   result.device = context.deviceName();
   result.driver = context.driverInfo();
-  std::size_t total = 0;
-  for (const Group& g : groups) total += 1 + g.configs.size();
+  // This shard's configurations (all of them when the sweep is not split), per group.
+  std::vector<std::vector<bool>> mine(groups.size());
+  std::size_t total = 0, index = 0;
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    for (std::size_t j = 0; j < groups[gi].configs.size(); ++j, ++index) {
+      mine[gi].push_back(index % sweep.shardCount == sweep.shardIndex);
+    }
+    const auto count = std::size_t(std::count(mine[gi].begin(), mine[gi].end(), true));
+    total += count ? 1 + count : 0;
+  }
   Progress progress(total, sweep.progress);
 
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
     const Group& g = groups[gi];
+    if (std::find(mine[gi].begin(), mine[gi].end(), true) == mine[gi].end()) continue;
     std::ostringstream groupName;
     groupName << std::setw(2) << std::setfill('0') << gi << "_" << slug(g.scene) << "_light" << slug(shortNumber(g.lightSize));
     const std::string imagesDir = sweep.imagesDir.empty() ? "" : sweep.imagesDir + "/" + groupName.str();
@@ -289,6 +299,8 @@ SweepResult runSweep(const Sweep& sweep) {
       const double nodesPerRay =
           s.nodeVisits && s.raysTraced && *s.raysTraced ? double(*s.nodeVisits) / double(*s.raysTraced) : 0.0;
       return nlohmann::json{
+          {"group", gi},
+          {"config", config ? std::ptrdiff_t(config - g.configs.data()) : std::ptrdiff_t(-1)},
           {"scene", g.scene},
           {"triangles", run["triangles"]},
           {"width", f.width},
@@ -345,6 +357,7 @@ SweepResult runSweep(const Sweep& sweep) {
     std::vector<Job> jobs;
     jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
     for (const SweepConfig& config : g.configs) {
+      if (!mine[gi][std::size_t(&config - g.configs.data())]) continue;
       RunConfig runConfig = g.reference;
       applyRunOptions(runConfig, config.params);
       RunSetup setup = quietPrepare(runConfig, config.method);
@@ -409,14 +422,17 @@ SweepResult runSweep(const Sweep& sweep) {
     }
     result.rows.push_back(refRow);
 
-    std::vector<std::string> pictured;
+    // Images of each method's first configuration in the group (whichever shard measures it).
+    auto firstOfMethod = [&](const SweepConfig& c) {
+      return &c == &*std::find_if(g.configs.begin(), g.configs.end(), [&](const SweepConfig& o) { return o.method == c.method; });
+    };
     for (std::size_t j = 1; j < jobs.size(); ++j) {
       const SweepConfig& config = *jobs[j].config;
       const nlohmann::json& run = jobs[j].run;
       Frame frame = medianFrame(jobs[j].runs);
       jobs[j].runs.clear();
       frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, threshold);
-      const bool picture = !imagesDir.empty() && std::find(pictured.begin(), pictured.end(), config.method) == pictured.end();
+      const bool picture = !imagesDir.empty() && firstOfMethod(config);
       std::vector<float> flip;
       frame.stats.imageError =
           compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, picture ? &flip : nullptr);
@@ -430,7 +446,6 @@ SweepResult runSweep(const Sweep& sweep) {
       r["ref_temporal_change"] = refRow["ref_temporal_change"];
       // Images of each method's first configuration: the page shows them beside the reference.
       if (picture) {
-        pictured.push_back(config.method);
         writeFrame(imagesDir, frame, run);
         writeHeatmap(imagesDir, frame, reference, soft ? 0.25f : 1.0f);
         writePngRgba8(imagesDir + "/" + config.method + ".flip.png", int(frame.width), int(frame.height),
@@ -447,6 +462,51 @@ SweepResult runSweep(const Sweep& sweep) {
     throw std::runtime_error(std::to_string(messages.size()) + " Vulkan validation message(s) during the sweep, see above");
   }
   return result;
+}
+
+nlohmann::json mergeBench(const std::vector<std::string>& dirs, const std::string& outDir) {
+  std::optional<nlohmann::json> merged;
+  std::vector<bool> seen;
+  std::map<std::pair<long, long>, nlohmann::json> rows;  // by (group, configuration; -1 = reference)
+  for (const std::string& dir : dirs) {
+    const std::string path = dir + "/bench.json";
+    std::ifstream in(path);
+    if (!in) throw InputError("--merge: no " + path + "; name the output folders of the shards");
+    nlohmann::json bench = nlohmann::json::parse(in, nullptr, false);
+    if (bench.is_discarded() || !bench.contains("shard") || !bench.contains("rows")) {
+      throw InputError("--merge: " + path + " is not the output of bench --shard");
+    }
+    const nlohmann::json shard = bench["shard"];
+    const auto count = shard.value("count", 0u), index = shard.value("index", 0u);
+    if (!merged) {
+      merged = bench;
+      seen.assign(count, false);
+    }
+    const nlohmann::json& first = (*merged)["shard"];
+    if (count != first.value("count", 0u) || shard.value("configurations", 0u) != first.value("configurations", 0u) ||
+        bench["description"] != (*merged)["description"] || index < 1 || index > count) {
+      throw InputError("--merge: " + path + " is shard " + std::to_string(index) + "/" + std::to_string(count) +
+                       " of another sweep than " + dirs.front());
+    }
+    if (seen[index - 1]) throw InputError("--merge: shard " + std::to_string(index) + " is named twice");
+    seen[index - 1] = true;
+    for (const nlohmann::json& r : bench["rows"]) rows.emplace(std::make_pair(r["group"].get<long>(), r["config"].get<long>()), r);
+    if (fs::exists(dir + "/frames")) {
+      fs::create_directories(outDir + "/frames");
+      fs::copy(dir + "/frames", outDir + "/frames", fs::copy_options::recursive | fs::copy_options::skip_existing);
+    }
+  }
+  if (!merged) throw InputError("--merge names no folder");
+  const auto missing = std::find(seen.begin(), seen.end(), false);
+  if (missing != seen.end()) {
+    throw InputError("--merge: shard " + std::to_string(missing - seen.begin() + 1) + "/" + std::to_string(seen.size()) +
+                     " is missing");
+  }
+  nlohmann::json& out = *merged;
+  out.erase("shard");
+  out["rows"] = nlohmann::json::array();
+  for (auto& [key, row] : rows) out["rows"].push_back(std::move(row));
+  return out;
 }
 
 void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {

@@ -68,6 +68,10 @@ struct Sweep {
   // frame-to-frame change of the visibility (temporal_change) and the reference's (ref_temporal_change).
   std::uint32_t temporalFrames = 0;
   float temporalStepDeg = 0.25f;
+  // Scale-out: this run measures configurations shardIndex, shardIndex + shardCount, ... of the
+  // sweep's (groups in order, configurations in order), each with its group's reference; rows
+  // carry their group and configuration index, so that mergeBench puts shards back in order.
+  std::uint32_t shardIndex = 0, shardCount = 1;
 };
 
 struct SweepResult {
@@ -78,6 +82,11 @@ struct SweepResult {
 // Checks every scene, light size and parameter value first (InputError before any output), then
 // renders. Vulkan validation messages (with base.validate) make it throw.
 SweepResult runSweep(const Sweep& sweep);
+
+// Combines the output folders of a split sweep (bench --shard K/N, one folder per shard) into the
+// bench.json of one unsplit run: its rows in its order (each group's reference once), and copies
+// the shards' frames/ into outDir. InputError unless the folders are the N shards of one sweep.
+nlohmann::json mergeBench(const std::vector<std::string>& dirs, const std::string& outDir);
 
 // CPU model, hardware threads, memory and architecture, e.g. "AMD EPYC 7B13, 2 threads, 24 GiB, x86_64".
 std::string machineDescription();

@@ -47,6 +47,8 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"compare --methods srt --tracer nosuch --scene builtin:square", "--tracer"},
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
+      {"bench --scenes builtin:square --methods sm --shard 3/2", "--shard"},
+      {"bench --merge /nonexistent/shard1,/nonexistent/shard2", "--merge"},
       // Refused before allocating, naming the limit applied and the option that lowers the largest term.
       {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "lower --res"},
       {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "lower --shadow-map-res"},
@@ -105,6 +107,40 @@ TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
     EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
   }
+}
+
+// A sweep split in shards (bench --shard K/N, issue 20) and merged gives the rows of one run, in
+// its order, with the same fields and images; a merge missing a shard, or mixing sweeps, is refused.
+TEST_F(Cli, BenchShardsMergeIntoOneRun) {
+  const std::string sweep = "bench --scenes builtin:square --methods sm,pcf --pcf-kernel 3x3,5x5 --res 32x32 --repeat 1 "
+                            "--warmup 0 --temporal-frames 0 --no-report";
+  const fs::path one = dir_ / "one", a = dir_ / "a", b = dir_ / "b", merged = dir_ / "merged";
+  ASSERT_EQ(run(sweep + " --out " + one.string()).exitCode, 0);
+  ASSERT_EQ(run(sweep + " --shard 1/2 --out " + a.string()).exitCode, 0);
+  ASSERT_EQ(run(sweep + " --shard 2/2 --out " + b.string()).exitCode, 0);
+  const Result m = run("bench --no-report --merge " + a.string() + "," + b.string() + " --out " + merged.string());
+  ASSERT_EQ(m.exitCode, 0) << m.err;
+  const auto whole = nlohmann::json::parse(slurp(one / "bench.json")), parts = nlohmann::json::parse(slurp(merged / "bench.json"));
+  const auto shardA = nlohmann::json::parse(slurp(a / "bench.json"));
+  EXPECT_LT(shardA["rows"].size(), whole["rows"].size());  // a shard measures only its share
+  ASSERT_EQ(parts["rows"].size(), whole["rows"].size());
+  for (std::size_t i = 0; i < whole["rows"].size(); ++i) {
+    const auto &w = whole["rows"][i], &p = parts["rows"][i];
+    EXPECT_EQ(p["label"], w["label"]) << i;
+    EXPECT_EQ(p["images"], w["images"]) << i;
+    for (const auto& [key, value] : w.items()) EXPECT_TRUE(p.contains(key)) << i << " " << key;
+    for (const char* exact : {"pip_fraction", "rays_traced", "error"}) EXPECT_EQ(p[exact], w[exact]) << i << " " << exact;
+  }
+  EXPECT_FALSE(parts.contains("shard"));
+  EXPECT_TRUE(fs::exists(merged / "bench.csv"));
+  for (const auto& r : whole["rows"]) {
+    for (const auto& [kind, image] : r["images"].items()) EXPECT_TRUE(fs::exists(merged / image.get<std::string>())) << image;
+  }
+  const Result missing = run("bench --no-report --merge " + a.string() + " --out " + (dir_ / "m2").string());
+  EXPECT_NE(missing.exitCode, 0);
+  EXPECT_NE(missing.err.find("shard 2/2 is missing"), std::string::npos) << missing.err;
+  const Result twice = run("bench --no-report --merge " + a.string() + "," + a.string() + " --out " + (dir_ / "m3").string());
+  EXPECT_NE(twice.err.find("named twice"), std::string::npos) << twice.err;
 }
 
 // A run's output folder is written whole or not at all (issue 20): what a run that stops before
