@@ -17,3 +17,5 @@ ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
   ctest --test-dir build-sanitize --output-on-failure -j2 -E DemoTest
 ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1" \
   ctest --test-dir build-sanitize --output-on-failure -j2 -R DemoTest
+# The loaders' fuzzers, for FUZZ_SECONDS each (scripts/fuzz.sh).
+bash scripts/fuzz.sh
