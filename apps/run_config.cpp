@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "core/animation.h"
+#include "core/builtin_scenes.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "hybrid/method.h"
@@ -48,7 +49,7 @@ struct MemoryEstimate {
   std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, lineSpace = 0;
   std::uint64_t total() const { return lightMaps + perPixel + geometry + lineSpace; }
   // The largest term, and what lowers it.
-  std::string largest(const RenderSettings& s, const Scene& scene) const {
+  std::string largest(const RenderSettings& s, std::uint64_t triangles) const {
     const auto mib = [](std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
     const std::uint64_t top = std::max({lightMaps, perPixel, geometry, lineSpace});
     if (top == perPixel) {
@@ -60,14 +61,14 @@ struct MemoryEstimate {
              "): lower --shadow-map-res";
     }
     if (top == geometry) {
-      return "the scene's " + std::to_string(scene.triangleCount()) + " triangles (" + mib(geometry) +
+      return "the scene's " + std::to_string(triangles) + " triangles (" + mib(geometry) +
              "): load a smaller scene or level";
     }
     return "the line space's pools (" + mib(lineSpace) + "): lower --linespace-budget";
   }
 };
 
-MemoryEstimate estimateBytes(const RenderSettings& s, const Scene& scene, bool usesLineSpace) {
+MemoryEstimate estimateBytes(const RenderSettings& s, std::uint64_t triangles, bool usesLineSpace) {
   MemoryEstimate e;
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
   const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
@@ -79,7 +80,7 @@ MemoryEstimate estimateBytes(const RenderSettings& s, const Scene& scene, bool u
   // ray max, and the compacted ShadingPoints
   e.perPixel = pixels * (16 + 16 + 4 + 4 + 4) * 2 + pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
   // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)
-  e.geometry = scene.triangleCount() * (3 * 4 + 3 * 36 + 48 + 64);
+  e.geometry = triangles * (3 * 4 + 3 * 36 + 48 + 64);
   // The line space refuses itself before allocating when its pools exceed its budget, so an
   // explicit --linespace-budget is what it may add; the default (a quarter of the available
   // memory) is left out, as it adapts to what is free.
@@ -89,6 +90,16 @@ MemoryEstimate estimateBytes(const RenderSettings& s, const Scene& scene, bool u
 
 std::uint64_t physicalMemoryBytes() {
   return std::uint64_t(sysconf(_SC_PHYS_PAGES)) * std::uint64_t(sysconf(_SC_PAGE_SIZE));
+}
+
+// lavapipe's device memory is host memory: half of it stays for the driver, the host copies and
+// the reference tracer. InputError naming the limit and the largest term when the run needs more.
+void requireFits(const MemoryEstimate& need, const RenderSettings& s, std::uint64_t triangles) {
+  const std::uint64_t have = physicalMemoryBytes(), limit = have / 2;
+  if (need.total() <= limit) return;
+  throw InputError("this run needs about " + std::to_string(need.total() >> 20) + " MiB of GPU buffers, over the limit of " +
+                   std::to_string(limit >> 20) + " MiB (half of this machine's " + std::to_string(have >> 20) +
+                   " MiB); most of it is " + need.largest(s, triangles));
 }
 
 }  // namespace
@@ -176,6 +187,12 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   if (c.rayEpsilon < 0.0f || c.normalOffset < 0.0f) throw InputError("--ray-epsilon and --normal-offset must be >= 0");
 
   RunSetup s;
+  // A built-in level's geometry alone may be over the limit: refused before it is built.
+  if (const std::optional<std::uint64_t> triangles = builtinTriangleCount(c.scene)) {
+    MemoryEstimate geometry;
+    geometry.geometry = estimateBytes(s.settings, *triangles, false).geometry;
+    requireFits(geometry, s.settings, *triangles);
+  }
   s.scene = loadScene(c.scene);
   for (const std::string& w : s.scene.warnings) std::cerr << "penumbra: " << c.scene << ": " << w << "\n";
   const Bounds bounds = s.scene.bounds();
@@ -231,15 +248,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
 
-  // lavapipe's device memory is host memory: half of it stays for the driver, the host copies and
-  // the reference tracer.
-  const MemoryEstimate need = estimateBytes(s.settings, s.scene, lineSpace);
-  const std::uint64_t have = physicalMemoryBytes(), limit = have / 2;
-  if (need.total() > limit) {
-    throw InputError("this run needs about " + std::to_string(need.total() >> 20) + " MiB of GPU buffers, over the limit of " +
-                     std::to_string(limit >> 20) + " MiB (half of this machine's " + std::to_string(have >> 20) +
-                     " MiB); most of it is " + need.largest(s.settings, s.scene));
-  }
+  requireFits(estimateBytes(s.settings, s.scene.triangleCount(), lineSpace), s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     writeViewFile(c.saveView,
                   {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time});

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "core/animation.h"
 #include "core/mesh_builder.h"
@@ -224,26 +226,45 @@ std::vector<std::string> builtinSceneNames() {
   return {"courtyard", "courtyard-moving", "wires", "square", "room", "foliage", "level", "knot"};
 }
 
+namespace {
+// A courtyard spec's name and level (InputError for a bad level); nullopt for other scenes.
+std::optional<std::pair<std::string, int>> courtyardSpec(const std::string& nameAndLevel) {
+  std::string spec = nameAndLevel;
+  if (spec.rfind("builtin:", 0) == 0) spec.erase(0, 8);
+  const std::size_t colon = spec.find(':');
+  const std::string name = spec.substr(0, colon);
+  if (name != "courtyard" && name != "courtyard-moving") return std::nullopt;
+  int level = kDefaultCourtyardLevel;
+  if (colon != std::string::npos) {
+    const std::string levelText = spec.substr(colon + 1);
+    const char* begin = levelText.data();
+    const char* end = begin + levelText.size();
+    const auto [ptr, ec] = std::from_chars(begin, end, level);
+    if (levelText.empty() || ec != std::errc() || ptr != end || level < 1 || level > kMaxCourtyardLevel) {
+      throw InputError("built-in scene 'builtin:" + spec + "' has the bad level '" + levelText + "'; " + usage());
+    }
+  }
+  return std::make_pair(name, level);
+}
+}  // namespace
+
+std::optional<std::uint64_t> builtinTriangleCount(const std::string& nameAndLevel) {
+  const auto courtyardLevel = courtyardSpec(nameAndLevel);
+  if (!courtyardLevel) return std::nullopt;
+  const std::uint64_t l = std::uint64_t(courtyardLevel->second), s = std::min<std::uint64_t>(l, 128);
+  const std::uint64_t count = 272 * l * l + 144 * s * s + 160 * l - 24 * s + 408;  // see builtin_scenes.h
+  return courtyardLevel->first == "courtyard" ? count : count + 36;  // the drone
+}
+
 Scene makeBuiltinScene(const std::string& nameAndLevel) {
+  if (const auto courtyardLevel = courtyardSpec(nameAndLevel)) {
+    return courtyardLevel->first == "courtyard" ? courtyard(courtyardLevel->second) : courtyardMoving(courtyardLevel->second);
+  }
   std::string spec = nameAndLevel;
   if (spec.rfind("builtin:", 0) == 0) spec.erase(0, 8);
   const std::size_t colon = spec.find(':');
   const std::string name = spec.substr(0, colon);
   const bool hasLevel = colon != std::string::npos;
-  const std::string levelText = hasLevel ? spec.substr(colon + 1) : std::string();
-
-  if (name == "courtyard" || name == "courtyard-moving") {
-    int level = kDefaultCourtyardLevel;
-    if (hasLevel) {
-      const char* begin = levelText.data();
-      const char* end = begin + levelText.size();
-      const auto [ptr, ec] = std::from_chars(begin, end, level);
-      if (levelText.empty() || ec != std::errc() || ptr != end || level < 1 || level > kMaxCourtyardLevel) {
-        throw InputError("built-in scene 'builtin:" + spec + "' has the bad level '" + levelText + "'; " + usage());
-      }
-    }
-    return name == "courtyard" ? courtyard(level) : courtyardMoving(level);
-  }
   Scene (*make)() = name == "wires"     ? wires
                     : name == "square"  ? square
                     : name == "room"    ? room

@@ -1,6 +1,8 @@
 // Procedural scenes selectable as "builtin:NAME" or "builtin:courtyard[-moving]:LEVEL" (LEVEL = tessellation).
 // Each comes with its default camera and light.
 #pragma once
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,9 @@ namespace penumbra {
 // foliage, level, knot: stress scenes (a tree of small leaves, a brush-built level with sub-texel
 //            cracks, a self-shadowing knot), documented in core/stress_scenes.h.
 Scene makeBuiltinScene(const std::string& nameAndLevel);
+// The triangles makeBuiltinScene would build for a courtyard spec, counted without building it
+// (its levels reach tens of millions); nullopt for the other scenes, which are small.
+std::optional<std::uint64_t> builtinTriangleCount(const std::string& nameAndLevel);
 std::vector<std::string> builtinSceneNames();
 
 }  // namespace penumbra

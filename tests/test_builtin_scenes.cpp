@@ -131,6 +131,13 @@ TEST(BuiltinScenes, CourtyardTriangleCountGrowsWithLevelAsDocumented) {
     EXPECT_GT(s.triangleCount(), previous);
     previous = s.triangleCount();
   }
+  // Counted without building (the memory estimate refuses huge levels before they are built).
+  for (const char* spec : {"courtyard:1", "courtyard:8", "courtyard:32", "courtyard:130", "builtin:courtyard-moving:3", "courtyard"}) {
+    EXPECT_EQ(builtinTriangleCount(spec), makeBuiltinScene(spec).triangleCount()) << spec;
+  }
+  EXPECT_EQ(builtinTriangleCount("courtyard:512"), 73741720u);  // as documented
+  EXPECT_FALSE(builtinTriangleCount("square").has_value());
+  EXPECT_THROW(builtinTriangleCount("courtyard:0"), InputError);
   const std::size_t defaultCount = makeBuiltinScene("courtyard").triangleCount();
   EXPECT_EQ(defaultCount, makeBuiltinScene("courtyard:8").triangleCount());
   EXPECT_GE(defaultCount, 10000u);

@@ -53,6 +53,7 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "lower --res"},
       {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "lower --shadow-map-res"},
       {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "half of this machine's"},
+      {"render --method sm --scene builtin:courtyard:512", "73741720 triangles"},  // refused before it is built
   };
   for (const auto& [args, mention] : cases) {
     const Result r = run(args + " --out " + out);
