@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <iostream>
 #include <sstream>
 
@@ -110,6 +112,9 @@ BenchCommand::BenchCommand(CLI::App& app) {
   command_->add_option("--shard", shard_,
                        "K/N: run configurations K, K+N, K+2N, ... of the sweep (1-based; each with its group's "
                        "reference), for splitting one sweep over several machines");
+  command_->add_flag("--resume", resume_,
+                     "Keep the results of the scene and light-size groups a killed run of the same sweep finished "
+                     "(kept in OUT/rows/ as each group ends) and run only the others");
   command_->add_option("--merge", merge_,
                        "Instead of a sweep: combine the output folders of its N shards (comma-separated) into --out, "
                        "as one run would have written it")
@@ -167,7 +172,43 @@ int BenchCommand::run() {
   sweep.shardIndex = shardIndex;
   sweep.shardCount = shardCount;
 
-  const SweepResult result = runSweep(sweep);
+  // Each group's rows are kept in OUT/rows/ as soon as they are final (written under a temporary
+  // name, then renamed); --resume takes those of a killed run of the same sweep instead of running
+  // their groups again.
+  const fs::path rowsDir = fs::path(base_.outDir) / "rows";
+  const auto groupFile = [&](std::size_t group) { return rowsDir / ("group" + std::to_string(group) + ".json"); };
+  if (resume_ && fs::exists(rowsDir / "sweep.json") &&
+      nlohmann::json::parse(std::ifstream(rowsDir / "sweep.json"), nullptr, false) != identity()) {
+    throw InputError("--resume: " + base_.outDir + " holds the results of a sweep with other options; give the same "
+                     "options, or another --out");
+  }
+  std::map<std::size_t, nlohmann::json> kept;  // group -> its rows, from the killed run
+  sweep.skipGroup = [&](std::size_t group) {
+    if (!resume_ || !fs::exists(groupFile(group))) return false;
+    kept[group] = nlohmann::json::parse(std::ifstream(groupFile(group)));
+    return true;
+  };
+  bool started = false;
+  sweep.onGroup = [&](std::size_t group, const nlohmann::json& rows) {
+    if (!started) {  // the first results of this run: a fresh run drops an earlier one's
+      if (!resume_) fs::remove_all(rowsDir);
+      fs::create_directories(rowsDir);
+      writeJson((rowsDir / "sweep.json").string(), identity());
+      started = true;
+    }
+    const fs::path file = groupFile(group), partial = file.string() + ".partial";
+    writeJson(partial.string(), rows);
+    fs::rename(partial, file);
+  };
+  SweepResult result = runSweep(sweep);
+  if (!kept.empty()) {  // put the kept groups back in their places
+    std::map<std::size_t, nlohmann::json> byGroup = kept;
+    for (const nlohmann::json& row : result.rows) byGroup[row["group"].get<std::size_t>()].push_back(row);
+    result.rows = nlohmann::json::array();
+    for (auto& [group, rows] : byGroup) {
+      for (nlohmann::json& row : rows) result.rows.push_back(std::move(row));
+    }
+  }
   std::ostringstream description;
   description << "Release build; " << base_.resolution << " pixels; warm-up " << base_.warmup << " frame(s), median of "
               << base_.repeat << " measured frame(s) (min-max in the tables); errors over covered pixels against the "
@@ -187,6 +228,16 @@ int BenchCommand::run() {
   }
   write(bench);
   return 0;
+}
+
+nlohmann::json BenchCommand::identity() const {
+  nlohmann::json id = nlohmann::json::object();
+  for (const CLI::Option* option : command_->get_options()) {
+    const std::string name = option->get_name();
+    if (option->count() == 0 || name == "--resume" || name == "--out" || name == "--no-report") continue;
+    id[name] = option->results();
+  }
+  return id;
 }
 
 void BenchCommand::write(const nlohmann::json& bench) const {

@@ -31,6 +31,8 @@ class BenchCommand {
   bool noReport_ = false, noImages_ = false;
   std::string shard_;                // "K/N": this run's share of the configurations
   std::vector<std::string> merge_;  // the shards' output folders to combine, instead of a sweep
+  bool resume_ = false;             // keep the groups whose rows out/rows/ already holds
+  nlohmann::json identity() const;  // the options given (but where to write): what makes rows reusable
   // bench.json, bench.csv, the summary and the report, in base_.outDir.
   void write(const nlohmann::json& bench) const;
 };

@@ -276,6 +276,8 @@ SweepResult runSweep(const Sweep& sweep) {
   for (std::size_t gi = 0; gi < groups.size(); ++gi) {
     const Group& g = groups[gi];
     if (std::find(mine[gi].begin(), mine[gi].end(), true) == mine[gi].end()) continue;
+    if (sweep.skipGroup && sweep.skipGroup(gi)) continue;
+    const std::size_t firstRow = result.rows.size();
     std::ostringstream groupName;
     groupName << std::setw(2) << std::setfill('0') << gi << "_" << slug(g.scene) << "_light" << slug(shortNumber(g.lightSize));
     const std::string imagesDir = sweep.imagesDir.empty() ? "" : sweep.imagesDir + "/" + groupName.str();
@@ -455,6 +457,9 @@ SweepResult runSweep(const Sweep& sweep) {
         if (!frame.pip.empty()) r["images"]["pip"] = imagesRel + config.method + ".pip.png";
       }
       result.rows.push_back(std::move(r));
+    }
+    if (sweep.onGroup) {
+      sweep.onGroup(gi, nlohmann::json(std::vector<nlohmann::json>(result.rows.begin() + std::ptrdiff_t(firstRow), result.rows.end())));
     }
   }
   const auto messages = context.validationMessages();

@@ -72,6 +72,10 @@ struct Sweep {
   // sweep's (groups in order, configurations in order), each with its group's reference; rows
   // carry their group and configuration index, so that mergeBench puts shards back in order.
   std::uint32_t shardIndex = 0, shardCount = 1;
+  // Resuming (bench --resume): groups (scene x light size) that skipGroup names are not run;
+  // onGroup receives each group's rows as soon as they are final, to keep them.
+  std::function<bool(std::size_t group)> skipGroup;
+  std::function<void(std::size_t group, const nlohmann::json& rows)> onGroup;
 };
 
 struct SweepResult {

@@ -144,6 +144,32 @@ TEST_F(Cli, BenchShardsMergeIntoOneRun) {
   EXPECT_NE(twice.err.find("named twice"), std::string::npos) << twice.err;
 }
 
+// bench --resume (issue 20): a sweep killed after its first group keeps that group's results
+// (its rows come back exactly, times included) and runs only the rest; other options are refused.
+TEST_F(Cli, BenchResumesAKilledSweep) {
+  const fs::path out = dir_ / "out";
+  const std::string sweep = "bench --scenes builtin:square,builtin:wires --methods sm --res 32x32 --repeat 1 --warmup 0 "
+                            "--temporal-frames 0 --no-report --no-images --out " + out.string();
+  ASSERT_EQ(run(sweep).exitCode, 0);
+  const auto first = nlohmann::json::parse(slurp(out / "bench.json"))["rows"];
+  ASSERT_EQ(first.size(), 4u);  // per group: the reference and sm
+  fs::remove(out / "rows" / "group1.json");  // killed during the second group
+  fs::remove(out / "bench.json");
+  const Result resumed = run(sweep + " --resume");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+  const auto rows = nlohmann::json::parse(slurp(out / "bench.json"))["rows"];
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0], first[0]);
+  EXPECT_EQ(rows[1], first[1]);
+  EXPECT_EQ(rows[2]["group"], 1);
+  EXPECT_EQ(rows[3]["scene"], "builtin:wires");
+  EXPECT_TRUE(fs::exists(out / "rows" / "group1.json"));
+  const Result other = run("bench --scenes builtin:square,builtin:wires --methods sm,pcf --res 32x32 --repeat 1 --warmup 0 "
+                           "--temporal-frames 0 --no-report --no-images --resume --out " + out.string());
+  EXPECT_NE(other.exitCode, 0);
+  EXPECT_NE(other.err.find("other options"), std::string::npos) << other.err;
+}
+
 // A run's output folder is written whole or not at all (issue 20): what a run that stops before
 // commit() wrote disappears, and committing moves every file, in subfolders too.
 TEST_F(Cli, StagedOutputIsWholeOrNothing) {
