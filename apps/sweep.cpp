@@ -496,16 +496,17 @@ nlohmann::json mergeBench(const std::vector<std::string>& dirs, const std::strin
     if (seen[index - 1]) throw InputError("--merge: shard " + std::to_string(index) + " is named twice");
     seen[index - 1] = true;
     for (const nlohmann::json& r : bench["rows"]) rows.emplace(std::make_pair(r["group"].get<long>(), r["config"].get<long>()), r);
-    if (fs::exists(dir + "/frames")) {
-      fs::create_directories(outDir + "/frames");
-      fs::copy(dir + "/frames", outDir + "/frames", fs::copy_options::recursive | fs::copy_options::skip_existing);
-    }
   }
   if (!merged) throw InputError("--merge names no folder");
   const auto missing = std::find(seen.begin(), seen.end(), false);
   if (missing != seen.end()) {
     throw InputError("--merge: shard " + std::to_string(missing - seen.begin() + 1) + "/" + std::to_string(seen.size()) +
                      " is missing");
+  }
+  for (const std::string& dir : dirs) {  // all shards checked: only now write
+    if (!fs::exists(dir + "/frames")) continue;
+    fs::create_directories(outDir + "/frames");
+    fs::copy(dir + "/frames", outDir + "/frames", fs::copy_options::recursive | fs::copy_options::skip_existing);
   }
   nlohmann::json& out = *merged;
   out.erase("shard");

@@ -140,6 +140,7 @@ TEST_F(Cli, BenchShardsMergeIntoOneRun) {
   const Result missing = run("bench --no-report --merge " + a.string() + " --out " + (dir_ / "m2").string());
   EXPECT_NE(missing.exitCode, 0);
   EXPECT_NE(missing.err.find("shard 2/2 is missing"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir_ / "m2")) << "a refused merge writes nothing";
   const Result twice = run("bench --no-report --merge " + a.string() + "," + a.string() + " --out " + (dir_ / "m3").string());
   EXPECT_NE(twice.err.find("named twice"), std::string::npos) << twice.err;
 }
