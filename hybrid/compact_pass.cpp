@@ -102,7 +102,11 @@ CompactPass::CompactPass(const gpu::Context& context, std::uint32_t width, std::
             "compact selection mask"),
       blocks_(context, vk::DeviceSize(blockCount_) * 4, vk::BufferUsageFlagBits::eStorageBuffer,
               "compact block offsets"),
-      points_(context, vk::DeviceSize(width) * height * sizeof(shared::ShadingPoint),
+      // One point per pixel, but no more than one binding holds: a frame larger than that still
+      // appends its flagged pixels (srt), and the host refuses one that flags more (traced_method).
+      points_(context,
+              std::min<vk::DeviceSize>(vk::DeviceSize(width) * height, maxStorageRange(context) / sizeof(shared::ShadingPoint)) *
+                  sizeof(shared::ShadingPoint),
               vk::BufferUsageFlagBits::eStorageBuffer, "compact shading points"),
       count_(context, sizeof(shared::TraceCount),
              vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer |
@@ -117,9 +121,9 @@ void CompactPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuff
                          std::uint32_t mode) const {
   // Checked here, not at construction: a renderer makes the pass for every image size, and only
   // the methods that trace need it to run.
-  if (points_.size() > maxStorageRange_) {
-    throw std::invalid_argument("CompactPass: " + sizeText(width_, height_) + " needs a " +
-                                std::to_string(points_.size()) +
+  const std::uint64_t needed = std::uint64_t(width_) * height_ * sizeof(shared::ShadingPoint);
+  if (needed > maxStorageRange_) {
+    throw std::invalid_argument("CompactPass: " + sizeText(width_, height_) + " needs a " + std::to_string(needed) +
                                 "-byte shading-point buffer, over this device's maxStorageBufferRange of " +
                                 std::to_string(maxStorageRange_) + " bytes; trace images of at most " +
                                 std::to_string(maxStorageRange_ / sizeof(shared::ShadingPoint)) + " pixels");

@@ -314,7 +314,7 @@ void main() {
     atomicMax(traceCount.groupsX, (first + total + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE);
   }
   first = subgroupMax(first);  // the elected lane's, the others hold 0
-  if (flagged == 0u) return;
+  if (flagged == 0u || first + slot >= uint(points.length())) return;  // the host refuses an overfull list
   // Member by member: the padding is not written (on lavapipe each word is a scatter).
   points[first + slot].position = position.xyz;
   points[first + slot].pixel = index;

@@ -10,7 +10,7 @@ layout(binding = TRACE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal
 // The index-th point, or false when there is none (past the list, off the image, or sky).
 bool tracePoint(uint index, out ShadingPoint point) {
   if (frame.traceInPlace == 0u) {
-    if (index >= traceCount.count) return false;
+    if (index >= traceCount.count || index >= uint(points.length())) return false;  // the host refuses an overfull list
     point = points[index];
     return true;
   }
