@@ -120,9 +120,7 @@ void Renderer::sceneMoved() {
 }
 
 bool Renderer::canTraceInPlace(const ShadowTracer& tracer) const {
-  const std::uint64_t groups = (std::uint64_t(shared::compactItems(settings_.width, settings_.height)) + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
-  return tracer.tracesInPlace() && !settings_.simulateBandwidth &&
-         groups <= context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0];
+  return tracer.tracesInPlace() && !settings_.simulateBandwidth;
 }
 
 TraceJob Renderer::traceJob(bool inPlace) {
@@ -144,8 +142,11 @@ void Renderer::recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared
 }
 
 void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
+  // Every tile's pixels, in rows of as many workgroups as the device dispatches (tracePointIndex).
   const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
-  recordTraceCount(cmd, {items, (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE, 1, 1});
+  const std::uint32_t groups = (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
+  const std::uint32_t row = std::min(groups, context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0]);
+  recordTraceCount(cmd, {items, row, (groups + row - 1) / row, 1});
 }
 
 bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {

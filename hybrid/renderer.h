@@ -98,7 +98,7 @@ class Renderer {
   // settings().tracer (or `name` when given), built on first use
   ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
   // Whether `tracer` can trace every covered pixel straight from the G-buffer (frt's best self: no
-  // compaction): a GPU tracer, no bandwidth replay (which reads the list), one dispatch row enough.
+  // compaction): a GPU tracer, and no bandwidth replay (which reads the list).
   bool canTraceInPlace(const ShadowTracer& tracer) const;
   // The compacted points and where results go; inPlace: the G-buffer instead (sets
   // FrameData::traceInPlace for this frame).

@@ -21,7 +21,7 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
 }
 
 void main() {
-  uint index = gl_GlobalInvocationID.x;
+  uint index = tracePointIndex();
   uint rays = 0u;
   ShadingPoint point;
   if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, rays);

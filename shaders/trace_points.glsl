@@ -7,6 +7,12 @@
 layout(binding = TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(binding = TRACE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
 
+// This invocation's point: dispatches wider than one row of workgroups (an in-place trace of a
+// frame over 4M pixels) continue in further rows.
+uint tracePointIndex() {
+  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * TRACE_GROUP_SIZE + gl_LocalInvocationID.x;
+}
+
 // The index-th point, or false when there is none (past the list, off the image, or sky).
 bool tracePoint(uint index, out ShadingPoint point) {
   if (frame.traceInPlace == 0u) {
