@@ -105,7 +105,7 @@ CompactPass::CompactPass(const gpu::Context& context, std::uint32_t width, std::
       // One point per pixel, but no more than one binding holds: a frame larger than that still
       // appends its flagged pixels (srt), and the host refuses one that flags more (traced_method).
       points_(context,
-              std::min<vk::DeviceSize>(vk::DeviceSize(width) * height, maxStorageRange(context) / sizeof(shared::ShadingPoint)) *
+              std::min<vk::DeviceSize>(vk::DeviceSize(width) * height, maxStorageRange_ / sizeof(shared::ShadingPoint)) *
                   sizeof(shared::ShadingPoint),
               vk::BufferUsageFlagBits::eStorageBuffer, "compact shading points"),
       count_(context, sizeof(shared::TraceCount),
