@@ -198,24 +198,25 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   const Bounds bounds = s.scene.bounds();
 
   std::optional<View> view;
-  if (!c.viewFile.empty()) view = readViewFile(c.viewFile);
+  const glm::dvec3 origin = s.scene.origin;  // options and view files are in world coordinates
+  if (!c.viewFile.empty()) view = readViewFile(c.viewFile, origin);
   s.settings.width = view ? std::uint32_t(view->width) : 0;
   s.settings.height = view ? std::uint32_t(view->height) : 0;
   if (!view || c.resolution != "256x256") parseResolution(c.resolution, s.settings.width, s.settings.height);
 
-  if (!c.camera.empty()) s.camera = parseCamera(c.camera);
+  if (!c.camera.empty()) s.camera = parseCamera(c.camera, origin);
   else if (view) s.camera = view->camera;
   else if (s.scene.camera) s.camera = *s.scene.camera;
   else {
     s.camera = defaultCamera(bounds);
-    std::cout << "camera (default): --camera " << formatCamera(s.camera) << "\n";
+    std::cout << "camera (default): --camera " << formatCamera(s.camera, origin) << "\n";
   }
-  if (!c.light.empty()) s.light = parseLight(c.light);
+  if (!c.light.empty()) s.light = parseLight(c.light, origin);
   else if (view) s.light = view->light;
   else if (!s.scene.lights.empty()) s.light = s.scene.lights.front();
   else {
     s.light = defaultLight(bounds);
-    std::cout << "light (default): --light " << formatLight(s.light) << "\n";
+    std::cout << "light (default): --light " << formatLight(s.light, origin) << "\n";
   }
   s.time = c.timeGiven || !view ? c.time : view->time;
   if (!std::isfinite(s.time) || s.time < 0.0) throw InputError("--time must be a number of seconds >= 0");
@@ -251,7 +252,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   requireFits(estimateBytes(s.settings, s.scene.triangleCount(), lineSpace), s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     writeViewFile(c.saveView,
-                  {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time});
+                  {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time}, origin);
   }
   return s;
 }
@@ -260,8 +261,9 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
   return {{"scene", c.scene},
           {"triangles", s.scene.triangleCount()},
           {"resolution", {s.settings.width, s.settings.height}},
-          {"camera", formatCamera(s.camera)},
-          {"light", formatLight(s.light)},
+          {"camera", formatCamera(s.camera, s.scene.origin)},
+          {"light", formatLight(s.light, s.scene.origin)},
+          {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},
           {"light_size", s.lightSizeFraction},
           {"time", s.time},
           {"spp", s.settings.spp},

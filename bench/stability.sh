@@ -47,9 +47,10 @@ run "foliage: 7,000 leaves, self-shadowing (builtin:foliage)" sm,pcf,pcss,msm --
 run "level: sub-texel cracks, T-junctions, grazing light (builtin:level)" - --scene builtin:level --methods "$ALL"
 run "knot: self-shadowing tube (builtin:knot)" - --scene builtin:knot --methods "$ALL"
 run "foliage, light 0.1 (builtin:foliage)" sm,pcf,pcss,msm --scene builtin:foliage --light-size 0.1 --spp 16 --methods "$ALL"
-# Huge coordinates: the same bunny scene at the origin (control) and 1e5 / 1e6 units away.
+# Huge coordinates: the same bunny scene at the origin (control) and 1e5 / 1e6 units away. The
+# loader stores a far model relative to its own origin (Scene::origin), so none is expected to fail.
 for o in 0 1e5 1e6; do
-  run "huge coordinates: offset $o (bunny)" "$([ $o = 0 ] && echo - || echo sm,pcf,pcss,msm)" --scene "$G/bunny_far$o.gltf" \
+  run "huge coordinates: offset $o (bunny)" - --scene "$G/bunny_far$o.gltf" \
     --view "$G/bunny_far$o.view.json" --methods "$ALL"
 done
 # Rays starting inside a line-space shaft: receivers in voxels their casters also occupy.

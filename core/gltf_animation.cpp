@@ -141,18 +141,22 @@ std::vector<double> NodeAnimations::keyTimes(const std::vector<int>& nodes) cons
 }
 
 std::optional<std::vector<RigidKey>> rigidKeys(const tinygltf::Model& model, const NodeAnimations& animations,
-                                               const std::vector<int>& chain, const std::string& meshName,
+                                               const std::vector<int>& chain, const glm::dvec3& origin,
+                                               const std::string& meshName,
                                                std::vector<std::string>& warnings) {
   const std::vector<double> times = animations.keyTimes(chain);
   if (times.empty()) return std::nullopt;
   glm::dmat4 rest(1.0);
   for (int node : chain) rest = rest * localTransform(model.nodes[std::size_t(node)]);
-  const glm::dmat4 toRest = glm::inverse(rest);
+  // A pose moves the mesh's world positions: world(t) * rest^-1. In scene coordinates it is
+  // conjugated by the shift to the origin, so a mesh turning far from the world origin turns in place.
+  const glm::dmat4 toScene = glm::translate(glm::dmat4(1.0), -origin);
+  const glm::dmat4 toRest = glm::inverse(rest) * glm::translate(glm::dmat4(1.0), origin);
   std::vector<RigidKey> keys;
   for (double t : times) {
     glm::dmat4 world(1.0);
     for (int node : chain) world = world * animations.localAt(model.nodes[std::size_t(node)], node, t);
-    const glm::dmat4 pose = world * toRest;
+    const glm::dmat4 pose = toScene * world * toRest;
     const glm::dmat3 m(pose);
     const double shear = std::max({std::abs(glm::dot(m[0], m[1])), std::abs(glm::dot(m[1], m[2])), std::abs(glm::dot(m[0], m[2]))});
     const double stretch = std::max({std::abs(glm::length(m[0]) - 1.0), std::abs(glm::length(m[1]) - 1.0),

@@ -41,9 +41,11 @@ class NodeAnimations {
 };
 
 // The rigid keys of a mesh whose node chain (root first) is `chain`; nullopt and a warning naming
-// `meshName` when no node of the chain is animated or the motion is not rigid.
+// `meshName` when no node of the chain is animated or the motion is not rigid. The keys move the
+// mesh in scene coordinates (world minus `origin`, Scene::origin).
 std::optional<std::vector<RigidKey>> rigidKeys(const tinygltf::Model& model, const NodeAnimations& animations,
-                                               const std::vector<int>& chain, const std::string& meshName,
+                                               const std::vector<int>& chain, const glm::dvec3& origin,
+                                               const std::string& meshName,
                                                std::vector<std::string>& warnings);
 
 }  // namespace penumbra::gltf

@@ -154,8 +154,9 @@ void checkUris(const std::string& jsonText, const std::string& path, const std::
   }
 }
 
-glm::vec3 worldDirection(const glm::mat4& world, const glm::vec3& local) {
-  const glm::vec3 d = glm::mat3(world) * local;
+// A unit direction under a transform's linear part (`local` itself if it collapses or overflows).
+glm::vec3 worldDirection(const glm::dmat3& linear, const glm::vec3& local) {
+  const glm::vec3 d(linear * glm::dvec3(local));
   const float len = glm::length(d);
   return len > 0.0f && std::isfinite(len) ? d / len : local;
 }
@@ -178,11 +179,19 @@ struct Converter {
   };
   std::vector<Animated> animated;  // meshes under animated nodes
   std::size_t visits = 0;
-  std::optional<glm::mat4> cameraWorld;
+  // World transforms in double, applied once the walk has found the scene's origin: meshes hold
+  // their local positions until then (meshWorld[i] belongs to scene.meshes[i]).
+  std::vector<glm::dmat4> meshWorld;
+  struct LightNode {
+    const tinygltf::Node* node;
+    glm::dmat4 world;
+  };
+  std::vector<LightNode> lightNodes;
+  std::optional<glm::dmat4> cameraWorld;
   float yfov = 0.0f;
   bool warnedOrtho = false;
 
-  void addPrimitive(const tinygltf::Mesh& mesh, std::size_t p, const glm::mat4& world) {
+  void addPrimitive(const tinygltf::Mesh& mesh, std::size_t p, const glm::dmat4& world) {
     const tinygltf::Primitive& prim = mesh.primitives[p];
     const std::string name = (mesh.name.empty() ? "mesh" : mesh.name) + "/" + std::to_string(p);
     const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
@@ -197,12 +206,11 @@ struct Converter {
     }
     Mesh out;
     out.name = name;
-    out.positions = readVec3(viewAccessor(model, pos->second, "POSITION", path));
-    for (glm::vec3& v : out.positions) v = glm::vec3(world * glm::vec4(v, 1.0f));
+    out.positions = readVec3(viewAccessor(model, pos->second, "POSITION", path));  // local until run() places them
     if (const auto nrm = prim.attributes.find("NORMAL"); nrm != prim.attributes.end()) {
       out.normals = readVec3(viewAccessor(model, nrm->second, "NORMAL", path));
-      const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(world));
-      for (glm::vec3& n : out.normals) n = worldDirection(glm::mat4(normalMatrix), n);
+      const glm::dmat3 normalMatrix = glm::inverseTranspose(glm::dmat3(world));
+      for (glm::vec3& n : out.normals) n = worldDirection(normalMatrix, n);
       if (out.normals.size() != out.positions.size()) out.normals.clear();  // cleanScene recomputes
     }
     std::vector<std::uint32_t> idx;
@@ -225,10 +233,11 @@ struct Converter {
       out.baseColor = rgb(model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
     }
     scene.meshes.push_back(std::move(out));
+    meshWorld.push_back(world);
     if (animatedOnChain > 0) animated.push_back({scene.meshes.size() - 1, chain});
   }
 
-  void addLight(const tinygltf::Node& node, const glm::mat4& world) {
+  void addLight(const tinygltf::Node& node, const glm::dmat4& world) {
     const auto ext = node.extensions.find("KHR_lights_punctual");
     if (ext == node.extensions.end() || !ext->second.IsObject() || !ext->second.Has("light")) return;
     const tinygltf::Value& ref = ext->second.Get("light");
@@ -241,7 +250,7 @@ struct Converter {
     Light light;
     light.color = rgb(src.color, glm::vec3(1.0f));
     light.position = glm::vec3(world[3]);
-    light.direction = worldDirection(world, glm::vec3(0.0f, 0.0f, -1.0f));
+    light.direction = worldDirection(glm::dmat3(world), glm::vec3(0.0f, 0.0f, -1.0f));
     if (src.type == "directional") {
       light.type = LightType::Directional;
     } else if (src.type == "spot") {
@@ -259,11 +268,11 @@ struct Converter {
   // A node entered on the way down (after its parent): its own content, then its children.
   struct Open {
     int index;
-    glm::mat4 world;
+    glm::dmat4 world;
     std::size_t nextChild = 0;
   };
 
-  void enter(int index, const glm::mat4& parent, std::vector<Open>& open) {
+  void enter(int index, const glm::dmat4& parent, std::vector<Open>& open) {
     if (index < 0 || std::size_t(index) >= model.nodes.size()) {
       fail(path, "node " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
     }
@@ -272,7 +281,7 @@ struct Converter {
     const tinygltf::Node& node = model.nodes[std::size_t(index)];
     chain.push_back(index);
     if (animations.animates(index)) ++animatedOnChain;
-    const glm::mat4 world = parent * glm::mat4(gltf::localTransform(node));
+    const glm::dmat4 world = parent * gltf::localTransform(node);
     if (node.mesh >= 0) {
       if (std::size_t(node.mesh) >= model.meshes.size()) {
         fail(path, "node " + std::to_string(index) + " refers to missing mesh " + std::to_string(node.mesh), "re-export it");
@@ -290,7 +299,7 @@ struct Converter {
         warnedOrtho = true;
       }
     }
-    addLight(node, world);
+    lightNodes.push_back({&node, world});
     onPath[std::size_t(index)] = 1;
     open.push_back({index, world});
   }
@@ -299,13 +308,13 @@ struct Converter {
   // stack goes (20,000 levels crashed the recursive walk).
   void visit(int root) {
     std::vector<Open> open;
-    enter(root, glm::mat4(1.0f), open);
+    enter(root, glm::dmat4(1.0), open);
     while (!open.empty()) {
       Open& top = open.back();
       const std::vector<int>& children = model.nodes[std::size_t(top.index)].children;
       if (top.nextChild < children.size()) {
         const int child = children[top.nextChild++];
-        const glm::mat4 parent = top.world;  // enter() grows `open`, which moves `top`
+        const glm::dmat4 parent = top.world;  // enter() grows `open`, which moves `top`
         enter(child, parent, open);
         continue;
       }
@@ -334,13 +343,31 @@ struct Converter {
     return out;
   }
 
+  // Moves every mesh from its local coordinates into the scene's (world minus scene.origin),
+  // composing in double so that a node placed far from the world origin keeps its mesh's detail.
+  glm::dmat4 placeMeshes() {
+    WorldBounds world;
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+      for (const glm::vec3& v : scene.meshes[m].positions) world.extend(glm::dvec3(meshWorld[m] * glm::dvec4(v, 1.0)));
+    }
+    scene.origin = world.origin();
+    const glm::dmat4 toScene = glm::translate(glm::dmat4(1.0), -scene.origin);
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+      const glm::dmat4 place = toScene * meshWorld[m];
+      for (glm::vec3& v : scene.meshes[m].positions) v = glm::vec3(place * glm::dvec4(v, 1.0));
+    }
+    return toScene;
+  }
+
   void run() {
     onPath.assign(model.nodes.size(), 0);
     for (int root : roots()) visit(root);
+    const glm::dmat4 toScene = placeMeshes();
+    for (const LightNode& l : lightNodes) addLight(*l.node, toScene * l.world);
     // Rest positions are taken by cleanScene (after it cleaned the mesh), so they match the mesh.
     for (const Animated& a : animated) {
       const std::optional<std::vector<RigidKey>> keys =
-          gltf::rigidKeys(model, animations, a.chain, scene.meshes[a.mesh].name, scene.warnings);
+          gltf::rigidKeys(model, animations, a.chain, scene.origin, scene.meshes[a.mesh].name, scene.warnings);
       if (!keys) continue;
       scene.meshes[a.mesh].dynamic = true;
       scene.animations.push_back({a.mesh, {}, {}, *keys});
@@ -354,9 +381,10 @@ struct Converter {
     }
     const float distance = finite.empty() || !(finite.radius() > 0.0f) ? 1.0f : finite.radius();
     Camera camera;
-    camera.eye = glm::vec3((*cameraWorld)[3]);
-    camera.target = camera.eye + distance * worldDirection(*cameraWorld, glm::vec3(0.0f, 0.0f, -1.0f));
-    camera.up = worldDirection(*cameraWorld, glm::vec3(0.0f, 1.0f, 0.0f));
+    const glm::dmat4 cameraPlace = toScene * *cameraWorld;
+    camera.eye = glm::vec3(cameraPlace[3]);
+    camera.target = camera.eye + distance * worldDirection(glm::dmat3(cameraPlace), glm::vec3(0.0f, 0.0f, -1.0f));
+    camera.up = worldDirection(glm::dmat3(cameraPlace), glm::vec3(0.0f, 1.0f, 0.0f));
     if (yfov > 0.0f && yfov < glm::pi<float>()) camera.fovYDeg = glm::degrees(yfov);
     scene.camera = camera;
   }

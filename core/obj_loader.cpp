@@ -1,5 +1,7 @@
 // Wavefront OBJ loader. tinyobj parses from memory so that it never opens files itself: the
-// material libraries are read here, and only from the OBJ's own folder.
+// material libraries are read here, and only from the OBJ's own folder. Coordinates are parsed in
+// double (tinyobjloader_double) and stored relative to the scene's origin, so that georeferenced
+// files keep their detail.
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +99,17 @@ Scene loadObj(const std::string& path) {
   const long vertexCount = long(attrib.vertices.size() / 3);
   const long normalCount = long(attrib.normals.size() / 3);
   const std::vector<tinyobj::shape_t>& shapes = reader.GetShapes();
+  const auto vertex = [&](int i) {
+    const tinyobj::real_t* v = &attrib.vertices[3 * std::size_t(i)];
+    return glm::dvec3(v[0], v[1], v[2]);
+  };
+  WorldBounds world;  // of the vertices the faces use
+  for (const tinyobj::shape_t& shape : shapes) {
+    for (const tinyobj::index_t& idx : shape.mesh.indices) {
+      if (idx.vertex_index >= 0 && idx.vertex_index < vertexCount) world.extend(vertex(idx.vertex_index));
+    }
+  }
+  scene.origin = world.origin();
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const tinyobj::mesh_t& src = shapes[s].mesh;
     const std::string shapeName = shapes[s].name.empty() ? "shape" + std::to_string(s) : shapes[s].name;
@@ -122,10 +135,9 @@ Scene loadObj(const std::string& path) {
       const std::uint64_t key = std::uint64_t(std::uint32_t(idx.vertex_index)) << 32 | std::uint32_t(idx.normal_index + 1);
       auto [it, inserted] = part.remap.try_emplace(key, std::uint32_t(part.mesh.positions.size()));
       if (inserted) {
-        const float* v = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
-        part.mesh.positions.emplace_back(v[0], v[1], v[2]);
+        part.mesh.positions.emplace_back(vertex(idx.vertex_index) - scene.origin);
         if (idx.normal_index >= 0) {
-          const float* n = &attrib.normals[3 * std::size_t(idx.normal_index)];
+          const tinyobj::real_t* n = &attrib.normals[3 * std::size_t(idx.normal_index)];
           part.mesh.normals.emplace_back(n[0], n[1], n[2]);
         } else {
           part.allNormals = false;

@@ -31,6 +31,22 @@ Bounds Scene::bounds() const {
   return b;
 }
 
+void WorldBounds::extend(const glm::dvec3& p) {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
+  lo = glm::min(lo, p);
+  hi = glm::max(hi, p);
+}
+
+glm::dvec3 WorldBounds::origin() const {
+  if (!(lo.x <= hi.x)) return glm::dvec3(0.0);
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double radius = 0.5 * glm::length(hi - lo);
+  if (!(glm::length(centre) > 16.0 * radius)) return glm::dvec3(0.0);
+  if (!(radius > 0.0)) return centre;
+  const double step = std::exp2(std::floor(std::log2(radius)));
+  return glm::round(centre / step) * step;
+}
+
 std::size_t Scene::triangleCount() const {
   std::size_t n = 0;
   for (const Mesh& mesh : meshes) n += mesh.triangleCount();

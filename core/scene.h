@@ -1,5 +1,7 @@
 // Scene model: world-space triangle meshes (node transforms flattened at load), lights, camera.
 // Units are the model's own; sizes that depend on scale are fractions of bounds().radius().
+// Positions, cameras and lights are stored relative to Scene::origin (see WorldBounds), so that a
+// model far from the world origin keeps the float precision of its own size.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -69,8 +71,22 @@ struct MeshAnimation {
   std::vector<RigidKey> keys;
 };
 
+// World-space bounds of a model as a loader reads it, in double (non-finite points are skipped).
+// origin() is where the loader puts Scene::origin: the world origin itself unless the box's centre
+// lies more than 16 of its radii from it (georeferenced tiles, terrain, ships in world
+// coordinates), else the centre snapped to a power-of-two step no larger than the radius.
+struct WorldBounds {
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+  glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+  void extend(const glm::dvec3& p);
+  glm::dvec3 origin() const;
+};
+
 struct Scene {
   std::string name;
+  // World position of (0,0,0) in every coordinate below. Options and view files give cameras and
+  // lights in world coordinates; core/view.h converts them with this origin.
+  glm::dvec3 origin{0.0};
   std::vector<Mesh> meshes;
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
   std::vector<Light> lights;     // the first one is used

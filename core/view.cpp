@@ -43,27 +43,37 @@ struct SpecProblem {
   std::string what;
 };
 
-float parseNumber(std::string_view text, const char* what) {
+double parseNumber(std::string_view text, const char* what) {
   std::string_view t = trim(text);
   if (t.size() > 1 && t.front() == '+' && t[1] != '-') t.remove_prefix(1);
-  float value = 0.0f;
+  double value = 0.0;
   const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
   if (t.empty() || ec == std::errc::invalid_argument || ptr != t.data() + t.size()) {
     throw SpecProblem{"'" + std::string(text) + "' in the " + what + " is not a number"};
   }
-  if (ec == std::errc::result_out_of_range || !std::isfinite(value)) {
+  if (ec == std::errc::result_out_of_range || !std::isfinite(value) || !std::isfinite(float(value))) {
     throw SpecProblem{"'" + std::string(text) + "' in the " + what + " is not a finite float"};
   }
   return value;
 }
 
-glm::vec3 parseVec3(std::string_view text, const char* what) {
+// A world point read in double and stored relative to the scene's origin.
+glm::dvec3 parseVec3(std::string_view text, const char* what) {
   const std::vector<std::string_view> parts = split(text, ',');
   if (parts.size() != 3) {
     throw SpecProblem{std::string("the ") + what + " needs 3 comma-separated numbers, got " +
                       std::to_string(parts.size()) + " ('" + std::string(text) + "')"};
   }
   return {parseNumber(parts[0], what), parseNumber(parts[1], what), parseNumber(parts[2], what)};
+}
+
+// Relative to the scene's origin; refuses what float cannot hold.
+glm::vec3 toScene(const glm::dvec3& world, const glm::dvec3& origin, const char* what) {
+  const glm::vec3 local(world - origin);
+  if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z)) {
+    throw SpecProblem{std::string("the ") + what + " is too far from the scene for float coordinates"};
+  }
+  return local;
 }
 
 // Unit direction from `from` to `to`; refuses coincident points.
@@ -76,7 +86,7 @@ glm::vec3 directionBetween(const glm::vec3& from, const glm::vec3& to, const cha
 }
 
 float parseAngle(std::string_view text, const char* what) {
-  const float angle = parseNumber(text, what);
+  const float angle = float(parseNumber(text, what));
   if (!(angle > 0.0f && angle < 180.0f)) {
     throw SpecProblem{std::string("the ") + what + " " + std::string(trim(text)) +
                       " is outside (0, 180) degrees"};
@@ -91,8 +101,21 @@ std::string formatNumber(float v) {
   return std::string(buffer, result.ptr);
 }
 
-std::string formatVec3(const glm::vec3& v) {
-  return formatNumber(v.x) + "," + formatNumber(v.y) + "," + formatNumber(v.z);
+// A coordinate in world units: the shortest text that reads back as the same float relative to
+// the scene's origin.
+std::string formatCoordinate(float local, double origin) {
+  if (origin == 0.0) return formatNumber(local);
+  char buffer[400];  // fixed notation of any double
+  for (int decimals = 0;; ++decimals) {
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, double(local) + origin, std::chars_format::fixed, decimals);
+    double world = 0.0;
+    std::from_chars(buffer, result.ptr, world);
+    if (float(world - origin) == local || decimals == 60) return std::string(buffer, result.ptr);
+  }
+}
+
+std::string formatVec3(const glm::vec3& v, const glm::dvec3& origin = glm::dvec3(0.0)) {
+  return formatCoordinate(v.x, origin.x) + "," + formatCoordinate(v.y, origin.y) + "," + formatCoordinate(v.z, origin.z);
 }
 
 // lookAt degenerates when the view is parallel to +y; straight-down or -up views use -z / +z as up.
@@ -127,15 +150,15 @@ std::string lightSizeProblem(const Light& light, float fraction) {
 
 }  // namespace
 
-Camera parseCamera(const std::string& spec) {
+Camera parseCamera(const std::string& spec, const glm::dvec3& origin) {
   try {
     const std::vector<std::string_view> parts = split(spec, ':');
     if (parts.size() != 2 && parts.size() != 3) {
       throw SpecProblem{"needs 2 or 3 ':'-separated parts, got " + std::to_string(parts.size())};
     }
     Camera camera;
-    camera.eye = parseVec3(parts[0], "eye");
-    camera.target = parseVec3(parts[1], "target");
+    camera.eye = toScene(parseVec3(parts[0], "eye"), origin, "eye");
+    camera.target = toScene(parseVec3(parts[1], "target"), origin, "target");
     const glm::vec3 forward = directionBetween(camera.eye, camera.target, "eye and target coincide");
     camera.up = upFor(forward);
     if (parts.size() == 3) camera.fovYDeg = parseAngle(parts[2], "fovy");
@@ -145,11 +168,11 @@ Camera parseCamera(const std::string& spec) {
   }
 }
 
-std::string formatCamera(const Camera& camera) {
-  return formatVec3(camera.eye) + ":" + formatVec3(camera.target) + ":" + formatNumber(camera.fovYDeg);
+std::string formatCamera(const Camera& camera, const glm::dvec3& origin) {
+  return formatVec3(camera.eye, origin) + ":" + formatVec3(camera.target, origin) + ":" + formatNumber(camera.fovYDeg);
 }
 
-Light parseLight(const std::string& spec) {
+Light parseLight(const std::string& spec, const glm::dvec3& origin) {
   try {
     const std::vector<std::string_view> parts = split(spec, ':');
     const std::string_view type = trim(parts[0]);
@@ -164,17 +187,17 @@ Light parseLight(const std::string& spec) {
     if (type == "dir") {
       expectParts(2, 2);
       light.type = LightType::Directional;
-      light.direction = directionBetween(glm::vec3(0.0f), parseVec3(parts[1], "direction"),
+      light.direction = directionBetween(glm::vec3(0.0f), glm::vec3(parseVec3(parts[1], "direction")),
                                          "the direction has zero length");
     } else if (type == "point") {
       expectParts(2, 2);
       light.type = LightType::Point;
-      light.position = parseVec3(parts[1], "position");
+      light.position = toScene(parseVec3(parts[1], "position"), origin, "position");
     } else if (type == "spot" || type == "rect" || type == "disk") {
       light.type = type == "spot" ? LightType::Spot : type == "rect" ? LightType::Rect : LightType::Disk;
       expectParts(3, light.type == LightType::Spot ? 4 : 3);
-      light.position = parseVec3(parts[1], "position");
-      light.direction = directionBetween(light.position, parseVec3(parts[2], "target"),
+      light.position = toScene(parseVec3(parts[1], "position"), origin, "position");
+      light.direction = directionBetween(light.position, toScene(parseVec3(parts[2], "target"), origin, "target"),
                                          "position and target coincide, so the light has no direction");
       if (parts.size() == 4) light.spotAngleDeg = parseAngle(parts[3], "spot angle");
     } else {
@@ -186,22 +209,22 @@ Light parseLight(const std::string& spec) {
   }
 }
 
-std::string formatLight(const Light& light) {
+std::string formatLight(const Light& light, const glm::dvec3& origin) {
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on chained operator+ here.
   std::string text = lightTypeName(light.type);
   text += ':';
   switch (light.type) {
     case LightType::Directional: text += formatVec3(light.direction); break;
-    case LightType::Point: text += formatVec3(light.position); break;
+    case LightType::Point: text += formatVec3(light.position, origin); break;
     case LightType::Spot:
     case LightType::Rect:
     case LightType::Disk: {
       // A target as far out as the position is large keeps the direction's digits after rounding.
       const float reach = std::max(1.0f, glm::length(light.position));
       const glm::vec3 target = light.position + reach * glm::normalize(light.direction);
-      text += formatVec3(light.position);
+      text += formatVec3(light.position, origin);
       text += ':';
-      text += formatVec3(target);
+      text += formatVec3(target, origin);
       if (light.type == LightType::Spot) {
         text += ':';
         text += formatNumber(light.spotAngleDeg);
@@ -257,7 +280,7 @@ void applyLightSize(Light& light, float fractionOfRadius, const Bounds& bounds) 
   light.size = fractionOfRadius * radius;
 }
 
-View readViewFile(const std::string& path) {
+View readViewFile(const std::string& path, const glm::dvec3& origin) {
   const std::string file = "view file '" + path + "'";
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
@@ -294,14 +317,14 @@ View readViewFile(const std::string& path) {
   const nlohmann::json& camera = field("camera");
   if (!camera.is_string()) throw fieldError("camera", "must be a string like \"0,3,8:0,0,0:45\"");
   try {
-    view.camera = parseCamera(camera.get<std::string>());
+    view.camera = parseCamera(camera.get<std::string>(), origin);
   } catch (const InputError& e) {
     throw fieldError("camera", e.what());
   }
   const nlohmann::json& light = field("light");
   if (!light.is_string()) throw fieldError("light", "must be a string like \"disk:5,10,5:0,0,0\"");
   try {
-    view.light = parseLight(light.get<std::string>());
+    view.light = parseLight(light.get<std::string>(), origin);
   } catch (const InputError& e) {
     throw fieldError("light", e.what());
   }
@@ -331,7 +354,7 @@ View readViewFile(const std::string& path) {
   return view;
 }
 
-void writeViewFile(const std::string& path, const View& view) {
+void writeViewFile(const std::string& path, const View& view, const glm::dvec3& origin) {
   const std::string file = "view file '" + path + "'";
   if (view.width < 1 || view.width > 16384 || view.height < 1 || view.height > 16384) {
     throw InputError(file + ": resolution " + std::to_string(view.width) + "x" + std::to_string(view.height) +
@@ -340,8 +363,8 @@ void writeViewFile(const std::string& path, const View& view) {
   const std::string problem = lightSizeProblem(view.light, view.lightSizeFraction);
   if (!problem.empty()) throw InputError(file + ": " + problem);
   nlohmann::ordered_json json;
-  json["camera"] = formatCamera(view.camera);
-  json["light"] = formatLight(view.light);
+  json["camera"] = formatCamera(view.camera, origin);
+  json["light"] = formatLight(view.light, origin);
   // Through the shortest float text, so the file shows 0.1 rather than 0.10000000149011612.
   const std::string sizeText = formatNumber(view.lightSizeFraction);
   double size = 0.0;

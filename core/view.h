@@ -14,10 +14,13 @@
 
 namespace penumbra {
 
-Camera parseCamera(const std::string& spec);      // InputError on malformed text
-std::string formatCamera(const Camera& camera);   // parseCamera(formatCamera(c)) == c (to 6 digits)
-Light parseLight(const std::string& spec);
-std::string formatLight(const Light& light);
+// Specs and view files speak world coordinates; Camera and Light hold them relative to the
+// scene's origin (Scene::origin), which these subtract on reading and add on writing, in double.
+Camera parseCamera(const std::string& spec, const glm::dvec3& origin = glm::dvec3(0.0));  // InputError on malformed text
+// parseCamera(formatCamera(c, o), o) == c (to 6 digits)
+std::string formatCamera(const Camera& camera, const glm::dvec3& origin = glm::dvec3(0.0));
+Light parseLight(const std::string& spec, const glm::dvec3& origin = glm::dvec3(0.0));
+std::string formatLight(const Light& light, const glm::dvec3& origin = glm::dvec3(0.0));
 
 // Three-quarter view that frames the whole bounds.
 Camera defaultCamera(const Bounds& bounds);
@@ -42,7 +45,8 @@ struct View {
   int height = 256;
   double time = 0.0;  // animated scenes: seconds into the animation (optional field "time")
 };
-View readViewFile(const std::string& path);  // InputError naming the file and the bad field
-void writeViewFile(const std::string& path, const View& view);
+// InputError naming the file and the bad field.
+View readViewFile(const std::string& path, const glm::dvec3& origin = glm::dvec3(0.0));
+void writeViewFile(const std::string& path, const View& view, const glm::dvec3& origin = glm::dvec3(0.0));
 
 }  // namespace penumbra

@@ -217,6 +217,53 @@ TEST(GltfLoader, NodeAnimationBecomesARigidMeshAnimation) {
   EXPECT_TRUE(near(s.meshes[0].normals[0], {1, 0, 0}, 1e-4f));  // +z turned 90 degrees about y
 }
 
+// A mesh placed by its node far from the world origin (a georeferenced tile) keeps its detail:
+// the node transform is composed in double and the mesh stored relative to Scene::origin. In float
+// world coordinates this millimetre triangle at 3e6 (one float step: 0.25) collapsed to a point.
+TEST(GltfLoader, FarNodeKeepsItsMeshDetail) {
+  TempDir dir;
+  Bytes bin;
+  const std::vector<glm::vec3> small = {{0, 0, 0}, {0.001f, 0, 0}, {0, 0.001f, 0}};
+  json doc = meshDoc(small, {0, 1, 2}, bin);
+  doc["nodes"][0]["translation"] = {3e6 + 0.3, 10.0, -2e6};
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin));
+  ASSERT_EQ(s.triangleCount(), 1u);
+  EXPECT_GT(glm::length(s.origin), 3e6);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const glm::dvec3 world = s.origin + glm::dvec3(s.meshes[0].positions[i]);
+    const glm::dvec3 want = glm::dvec3(3e6 + 0.3, 10.0, -2e6) + glm::dvec3(small[i]);
+    EXPECT_LT(glm::length(world - want), 1e-7) << i;
+  }
+  Bytes nearBin;
+  json nearDoc = meshDoc(small, {0, 1, 2}, nearBin);
+  nearDoc["nodes"][0]["translation"] = {0.001, 0.0, 0.0};  // within 16 radii: world coordinates kept
+  EXPECT_EQ(penumbra::loadScene(writeGltf(dir, nearDoc, nearBin, "near")).origin, glm::dvec3(0.0));
+}
+
+// The same animation placed 1e5 units away poses the mesh at its keys exactly as at the origin: the
+// keys turn it about its own parent, not about the scene's origin. (Between keys the rigid model
+// interpolates the motion of the scene's origin point, which for a far model now lies in the scene
+// instead of 1e5 units away.)
+TEST(GltfLoader, FarAnimationTurnsInPlace) {
+  TempDir dir;
+  Bytes nearBin, farBin;
+  Scene nearScene = penumbra::loadScene(writeGltf(dir, animatedDoc(nearBin), nearBin, "near"));
+  json farDoc = animatedDoc(farBin);
+  farDoc["nodes"][0]["translation"] = {1e5, 1.0, -1e5};
+  Scene farScene = penumbra::loadScene(writeGltf(dir, farDoc, farBin, "far"));
+  ASSERT_EQ(farScene.animations.size(), 1u);
+  ASSERT_GT(glm::length(farScene.origin), 1e5);
+  for (const double t : {1.0, 2.0, 3.0}) {
+    penumbra::poseScene(nearScene, t);
+    penumbra::poseScene(farScene, t);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const glm::dvec3 world = farScene.origin + glm::dvec3(farScene.meshes[0].positions[i]);
+      const glm::dvec3 want = glm::dvec3(nearScene.meshes[0].positions[i]) + glm::dvec3(1e5, 0.0, -1e5);
+      EXPECT_LT(glm::length(world - want), 1e-5) << "t " << t << " vertex " << i;
+    }
+  }
+}
+
 TEST(GltfLoader, NonRigidOrBrokenAnimationsAreRefusedOrKeptStatic) {
   TempDir dir;
   Bytes bin;
@@ -480,8 +527,8 @@ TEST(GltfLoader, DeepHierarchyLoads) {
   doc["nodes"] = nodes;
   const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin, "deep"));
   ASSERT_EQ(s.meshes.size(), 1u);
-  EXPECT_NEAR(s.meshes[0].positions[0].x, 100.0f, 0.05f);  // float sums of 100,000 steps
-  EXPECT_NEAR(s.meshes[0].positions[1].x, 101.0f, 0.05f);
+  EXPECT_NEAR(s.origin.x + s.meshes[0].positions[0].x, 100.0, 1e-6);  // double sums of 100,000 steps
+  EXPECT_NEAR(s.origin.x + s.meshes[0].positions[1].x, 101.0, 1e-6);
 }
 
 namespace {
@@ -532,6 +579,21 @@ TEST(ObjLoader, NormalsKept) {
   ASSERT_EQ(s.triangleCount(), 1u);
   ASSERT_EQ(s.meshes[0].normals.size(), 3u);
   EXPECT_TRUE(near(s.meshes[0].normals[2], {0, 0, 1}));
+}
+
+// Georeferenced OBJ coordinates are read in double and stored relative to Scene::origin: a
+// millimetre triangle 5e6 units out keeps its shape (float steps there are half a unit).
+TEST(ObjLoader, GeoreferencedCoordinatesKeepTheirDetail) {
+  TempDir dir;
+  writeFile(dir.file("far.obj"), std::string("v 5000000.123 20.5 -4000000.456\nv 5000000.124 20.5 -4000000.456\n"
+                                             "v 5000000.123 20.501 -4000000.456\nf 1 2 3\n"));
+  const Scene s = penumbra::loadScene(dir.file("far.obj"));
+  ASSERT_EQ(s.triangleCount(), 1u);
+  const glm::dvec3 want[3] = {{5000000.123, 20.5, -4000000.456}, {5000000.124, 20.5, -4000000.456},
+                              {5000000.123, 20.501, -4000000.456}};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_LT(glm::length(s.origin + glm::dvec3(s.meshes[0].positions[i]) - want[i]), 1e-7) << i;
+  }
 }
 
 TEST(ObjLoader, BadIndicesRefused) {

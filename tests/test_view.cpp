@@ -327,6 +327,27 @@ TEST_F(ViewFile, RoundTrips) {
   EXPECT_EQ(back.height, 360);
 }
 
+// A model stored relative to a far origin (Scene::origin): specs and view files stay in world
+// coordinates, and reading them keeps detail that a float world coordinate would round away
+// (at 1e7 one float step is a whole unit).
+TEST_F(ViewFile, WorldCoordinatesThroughASceneOrigin) {
+  const glm::dvec3 origin(1e7, 0.0, -2.5e7);
+  View view;
+  view.camera = parseCamera("10000014.125,12,-24999984.5:10000000.25,0.5,-25000000:30", origin);
+  EXPECT_EQ(view.camera.eye, glm::vec3(14.125f, 12.0f, 15.5f));
+  EXPECT_EQ(view.camera.target, glm::vec3(0.25f, 0.5f, 0.0f));
+  EXPECT_EQ(formatCamera(view.camera, origin), "10000014.125,12,-24999984.5:10000000.25,0.5,-25000000:30");
+  view.light = parseLight("point:9999994.1,18,-24999996.3", origin);
+  EXPECT_EQ(formatLight(view.light, origin), "point:9999994.1,18,-24999996.3") << "the shortest world text";
+  EXPECT_EQ(parseLight(formatLight(view.light, origin), origin).position, view.light.position);
+  const std::string path = (dir_ / "far.json").string();
+  writeViewFile(path, view, origin);
+  const View back = readViewFile(path, origin);
+  EXPECT_EQ(back.camera.eye, view.camera.eye);
+  EXPECT_EQ(back.light.position, view.light.position);
+  EXPECT_EQ(readViewFile(path).camera.eye.x, 10000014.0f) << "read without the origin, float rounds it";
+}
+
 TEST_F(ViewFile, AnimationTimeRoundTripsAndIsChecked) {
   View view;
   view.camera = parseCamera("9,19,23:0,0,0.5:40");

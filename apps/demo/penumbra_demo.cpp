@@ -182,7 +182,7 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
     std::cout << "wrote " << script.screenshot << "\n";
   }
   if (!saveView.empty()) {
-    writeViewFile(saveView, session.view());
+    writeViewFile(saveView, session.view(), session.scene().origin);
     std::cout << "wrote " << saveView << " (the last frame's view)\n";
   }
   const auto messages = context.validationMessages();
