@@ -96,6 +96,15 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
   if (family == families.end()) throw std::runtime_error("Vulkan device has no graphics+compute queue with timestamps");
   queueFamily_ = std::uint32_t(family - families.begin());
   timestampPeriodNs_ = physical_.getProperties().limits.timestampPeriod;
+  const auto limits = physical_.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceMaintenance3Properties,
+                                               vk::PhysicalDeviceMaintenance4Properties>();
+  storageBufferRange_ = limits.get<vk::PhysicalDeviceProperties2>().properties.limits.maxStorageBufferRange;
+  if (options.storageBufferRangeLimit != 0) storageBufferRange_ = std::min(storageBufferRange_, options.storageBufferRangeLimit);
+  maxBufferBytes_ = std::min<std::uint64_t>(limits.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize,
+                                            limits.get<vk::PhysicalDeviceMaintenance4Properties>().maxBufferSize);
+  bufferDeviceAddress_ = physical_.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
+                             .get<vk::PhysicalDeviceVulkan12Features>()
+                             .bufferDeviceAddress;
 
   // Features of an extension may only be queried where the device has it.
   const char* noRayQuery = std::getenv("PENUMBRA_NO_RAY_QUERY");
@@ -123,7 +132,7 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
                                                 .synchronization2 = VK_TRUE,
                                                 .dynamicRendering = VK_TRUE};
   vk::PhysicalDeviceVulkan12Features features12{
-      .pNext = &features13, .hostQueryReset = VK_TRUE, .bufferDeviceAddress = rayQuery_ ? VK_TRUE : VK_FALSE};
+      .pNext = &features13, .hostQueryReset = VK_TRUE, .bufferDeviceAddress = bufferDeviceAddress_ ? VK_TRUE : VK_FALSE};
   vk::PhysicalDeviceFeatures2 features{
       .pNext = &features12,
       .features = {.geometryShader = supported.geometryShader, .fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics}};
@@ -209,6 +218,13 @@ void Context::requireRayQuery(const std::string& user) const {
                                                            : "lacks VK_KHR_ray_query / VK_KHR_acceleration_structure") +
                            "; lavapipe has them from Mesa 25 (scripts/setup.sh installs it from bookworm-backports), or use "
                            "--tracer bvh");
+}
+
+void Context::requireBufferDeviceAddress(const std::string& user) const {
+  if (!bufferDeviceAddress_) {
+    throw std::runtime_error(user + ": " + deviceName() + " (" + driverInfo() + ") lacks buffer device addresses (Vulkan 1.2 "
+                             "bufferDeviceAddress), through which its kernels read buffers larger than one binding");
+  }
 }
 
 void Context::requireSubgroupArithmetic(const std::string& user) const {

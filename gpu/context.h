@@ -14,6 +14,9 @@ namespace penumbra::gpu {
 struct ContextOptions {
   bool validate = false;      // enable VK_LAYER_KHRONOS_validation and capture its messages
   bool printMessages = true;  // also print each validation message to stderr
+  // Tests: a maxStorageBufferRange lower than the device's (0 = the device's), so that code which
+  // splits or refuses at lavapipe's 128 MiB is exercised on small scenes.
+  std::uint64_t storageBufferRangeLimit = 0;
 };
 
 class Context {
@@ -29,6 +32,13 @@ class Context {
   // Throws std::runtime_error naming `user` when compute shaders lack subgroup basic/arithmetic
   // operations (the trace kernels sum their counters per subgroup).
   void requireSubgroupArithmetic(const std::string& user) const;
+  // Buffer device addresses (Vulkan 1.2; required by 1.3): enabled when the device has them.
+  // Throws std::runtime_error naming `user` when it does not.
+  void requireBufferDeviceAddress(const std::string& user) const;
+  // The most bytes one storage-buffer binding may span (maxStorageBufferRange, or the test limit
+  // of ContextOptions), and the most one buffer may hold (maxBufferSize, maxMemoryAllocationSize).
+  std::uint64_t storageBufferRange() const { return storageBufferRange_; }
+  std::uint64_t maxBufferBytes() const { return maxBufferBytes_; }
   std::string driverInfo() const;  // driver name and version, for benchmark rows
   bool validationEnabled() const { return validate_; }
   // Inline ray queries on driver-built acceleration structures (VK_KHR_acceleration_structure +
@@ -65,6 +75,9 @@ class Context {
   bool debugUtils_ = false;
   bool rayQuery_ = false;
   bool rayQueryTurnedOff_ = false;  // by PENUMBRA_NO_RAY_QUERY=1
+  bool bufferDeviceAddress_ = false;
+  std::uint64_t storageBufferRange_ = 0;
+  std::uint64_t maxBufferBytes_ = 0;
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;
   vk::raii::Context context_;

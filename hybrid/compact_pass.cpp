@@ -69,7 +69,7 @@ std::uint32_t maxGroupsX(const gpu::Context& context) {
 }
 
 std::uint32_t maxStorageRange(const gpu::Context& context) {
-  return context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  return std::uint32_t(context.storageBufferRange());
 }
 
 // Orders every storage write of the previous dispatch before the next one's reads and writes.

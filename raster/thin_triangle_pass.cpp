@@ -89,7 +89,7 @@ void ThinTrianglePass::recordSelection(const vk::raii::CommandBuffer& cmd, const
   const std::uint32_t faces = info.faceCount;
   // Thin triangles are usually a small share of a scene: a quarter fits most (settings). One
   // storage binding holds all faces' lists.
-  const vk::DeviceSize maxRange = context_.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  const vk::DeviceSize maxRange = context_.storageBufferRange();
   const std::uint32_t wanted = thin_.listCapacity ? thin_.listCapacity : std::max<std::uint32_t>(65536, triangles / 4);
   const std::uint32_t capacity =
       std::max<std::uint32_t>(1, std::min<vk::DeviceSize>({triangles, wanted, maxRange / (12 * faces)}));

@@ -15,18 +15,16 @@ namespace penumbra {
 namespace {
 
 
-constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
-                                           {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
-                                           {BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+// The trees are read through device addresses (BvhAddresses), so only the counters and the
+// kernels' own buffers are bound.
+constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
                                            {3, vk::DescriptorType::eStorageBuffer},
                                            {4, vk::DescriptorType::eStorageBuffer},
                                            {5, vk::DescriptorType::eStorageBuffer},
                                            {6, vk::DescriptorType::eStorageBuffer},
                                            {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
                                            {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}};
-constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_NODES, vk::DescriptorType::eStorageBuffer},
-                                          {BVH_BINDING_TRIANGLES, vk::DescriptorType::eStorageBuffer},
-                                          {BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
+constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
                                           {3, vk::DescriptorType::eStorageBuffer},
                                           {4, vk::DescriptorType::eStorageBuffer}};
 
@@ -34,21 +32,24 @@ constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_
 
 std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-std::uint64_t storageLimit(const gpu::Context& context) {
-  return context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+// (low, high) halves of a buffer's device address, as the kernels take it.
+glm::uvec2 addressOf(const gpu::Buffer& buffer) {
+  const vk::DeviceAddress a = buffer.address();
+  return {std::uint32_t(a), std::uint32_t(a >> 32)};
 }
 
 // Checks what can be known before building (the device, and the triangle buffer, the larger of
 // the two buffers), builds the static tree, then checks the node buffer (both trees).
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
   context.requireSubgroupArithmetic("BvhTracer");
-  const std::uint64_t limit = storageLimit(context);
+  context.requireBufferDeviceAddress("BvhTracer");
+  const std::uint64_t limit = context.maxBufferBytes();
   const std::uint64_t triangles = scene.triangleCount();
   const std::uint64_t dynamicTriangles = triangleCount(scene, MeshSet::Dynamic);
   auto tooLarge = [&](const char* what, std::uint64_t bytes) {
     return InputError("BVH: scene '" + scene.name + "' (" + std::to_string(triangles) + " triangles) needs " +
-                      mebibytes(bytes) + " of " + what + ", but " + context.deviceName() + " binds at most " +
-                      mebibytes(limit) + " per storage buffer (maxStorageBufferRange); use a smaller scene or level");
+                      mebibytes(bytes) + " of " + what + ", but " + context.deviceName() + " holds at most " +
+                      mebibytes(limit) + " in one buffer (maxMemoryAllocationSize, maxBufferSize); use a smaller scene or level");
   };
   if (BvhBuilder::triangleBytes(triangles) > limit)
     throw tooLarge("BVH triangles", BvhBuilder::triangleBytes(triangles));
@@ -74,9 +75,9 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
       staticTriangles_(std::uint32_t(bvh.triangles.size())),
       nodes_(context,
              (bvh.nodes.size() + (dynamic_.empty() ? 0 : dynamic_.nodeCapacity())) * sizeof(shared::BvhNode),
-             vk::BufferUsageFlagBits::eStorageBuffer, "bvh nodes"),
+             vk::BufferUsageFlagBits::eShaderDeviceAddress, "bvh nodes"),
       triangles_(context, (bvh.triangles.size() + dynamic_.triangleCount()) * sizeof(shared::BvhTriangle),
-                 vk::BufferUsageFlagBits::eStorageBuffer, "bvh triangles"),
+                 vk::BufferUsageFlagBits::eShaderDeviceAddress, "bvh triangles"),
       counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
                 "bvh counters"),
       raysCounters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer, "bvh ray counters"),
@@ -100,12 +101,14 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
 
 BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
+shared::BvhAddresses BvhTracer::addresses() const { return {addressOf(nodes_), addressOf(triangles_)}; }
+
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   recordTraceStart(cmd, counters_);
   gpu::Descriptors descriptors;
-  descriptors.buffer(BVH_BINDING_NODES, nodes_).buffer(BVH_BINDING_TRIANGLES, triangles_).buffer(BVH_BINDING_COUNTERS, counters_);
+  descriptors.buffer(BVH_BINDING_COUNTERS, counters_);
   tracePipeline_.bind(cmd, job.addTo(descriptors, 3));
-  tracePipeline_.pushConstants(cmd, shared::BvhTracePush{dynamicRoot_, 0u, 0u, 0u});
+  tracePipeline_.pushConstants(cmd, shared::BvhTracePush{addresses(), dynamicRoot_, 0u, 0u, 0u});
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
 }
@@ -132,12 +135,10 @@ std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuer
   auto out = rayBatches_.trace(rays, BVH_GROUP_SIZE, [&](const vk::raii::CommandBuffer& cmd, const gpu::Buffer& queries,
                                                          const gpu::Buffer& hits, std::uint32_t first, std::uint32_t count) {
     raysPipeline_.bind(cmd, gpu::Descriptors{}
-                                .buffer(BVH_BINDING_NODES, nodes_)
-                                .buffer(BVH_BINDING_TRIANGLES, triangles_)
                                 .buffer(BVH_BINDING_COUNTERS, raysCounters_)
                                 .buffer(3, queries)
                                 .buffer(4, hits));
-    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{first, count, anyHit ? 1u : 0u, dynamicRoot_});
+    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{addresses(), first, count, anyHit ? 1u : 0u, dynamicRoot_});
     cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
   });
   raysReport_ = readCounters(raysCounters_);

@@ -20,8 +20,10 @@ namespace penumbra {
 class BvhTracer final : public ShadowTracer {
  public:
   // Builds and uploads the BVH. Throws InputError when the scene is empty or its BVH would not fit
-  // one storage buffer binding of this device (maxStorageBufferRange; 128 MiB on lavapipe), and
-  // std::runtime_error when the device lacks subgroup arithmetic in compute shaders.
+  // one buffer of this device (maxMemoryAllocationSize; 2 GiB on lavapipe: the kernels read it
+  // through its device address, so one binding's 128 MiB range does not limit it), and
+  // std::runtime_error when the device lacks subgroup arithmetic in compute shaders or buffer
+  // device addresses.
   BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
 
   std::string name() const override { return "bvh"; }
@@ -58,6 +60,7 @@ class BvhTracer final : public ShadowTracer {
   static TraceReport readCounters(const gpu::Buffer& counters);
 
  private:
+  shared::BvhAddresses addresses() const;
   BvhTracer(const gpu::Context& context, const Scene& scene, Bvh staticBvh, const BvhBuildSettings& settings);
 
   const gpu::Context& context_;

@@ -57,7 +57,7 @@ vk::DeviceSize bvhTriangleBytes(std::uint64_t triangles) {
 LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
   context.requireSubgroupArithmetic("LineSpaceTracer");
   const std::uint64_t moving = triangleCount(scene, MeshSet::Dynamic);
-  const std::uint64_t limit = context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  const std::uint64_t limit = context.storageBufferRange();
   if (const std::uint64_t largest = std::max(bvhNodeBytes(moving), bvhTriangleBytes(moving)); largest > limit) {
     throw InputError("line space: the moving meshes of scene '" + scene.name + "' (" + std::to_string(moving) +
                      " triangles) need " + std::to_string(largest >> 20) + " MiB in one BVH buffer, but " +

@@ -81,7 +81,8 @@ std::vector<shared::RayHit> RayQueryTracer::traceRays(std::span<const shared::Ra
                                 .buffer(RQ_BINDING_COUNTERS, raysCounters_)
                                 .buffer(3, queries)
                                 .buffer(4, hits));
-    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{first, count, anyHit ? 1u : 0u, 0u});
+    // The kernel reads the driver's acceleration structures: no BVH addresses.
+    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{{}, first, count, anyHit ? 1u : 0u, 0u});
     cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
   });
 }

@@ -4,11 +4,15 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+#include "shared/bvh.h"
+layout(push_constant) uniform Push { BvhRaysPush push; };
+#define BVH_ADDRESSES push.bvh
 #include "bvh_traverse.glsl"
 layout(local_size_x = BVH_GROUP_SIZE) in;
 layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };
 layout(std430, binding = 4) writeonly buffer Hits { RayHit hits[]; };
-layout(push_constant) uniform Push { BvhRaysPush push; };
 
 void main() {
   uint rays = 0u;

@@ -5,8 +5,13 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+#include "shared/bvh.h"
 #include "shared/trace.h"
 #include "shadow_rays.glsl"
+layout(push_constant) uniform Push { BvhTracePush push; };
+#define BVH_ADDRESSES push.bvh
 #include "bvh_traverse.glsl"
 layout(local_size_x = TRACE_GROUP_SIZE) in;
 layout(std430, binding = 3) readonly buffer Points { ShadingPoint points[]; };
@@ -14,7 +19,6 @@ layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
 layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
-layout(push_constant) uniform Push { BvhTracePush push; };
 
 bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
   return bvhAnyHit(origin, dir, 0.0f, tMax, push.dynamicRoot);

@@ -1,7 +1,10 @@
 // BVH traversal, included by bvh_trace.comp, bvh_rays.comp and linespace_trace.comp (not
-// compiled on its own). Declares the node, triangle and counter buffers at BVH_BINDING_*
-// (BVH_NO_COUNTERS: no counter buffer and no bvhAddCounters, for kernels with their own);
-// includers enable GL_KHR_shader_subgroup_basic and _arithmetic (for bvhAddCounters).
+// compiled on its own). Reads the nodes and triangles through the device addresses in
+// BVH_ADDRESSES (a BvhAddresses the includer declared first, e.g. in its push constants; it then
+// enables GL_EXT_buffer_reference and GL_EXT_buffer_reference_uvec2), else from storage buffers
+// at BVH_BINDING_*; declares the counter buffer (BVH_NO_COUNTERS: no counter buffer and no
+// bvhAddCounters, for kernels with their own); includers enable GL_KHR_shader_subgroup_basic and
+// _arithmetic (for bvhAddCounters).
 // The buffers may hold two trees (shared/bvh.h): the static one at node 0 and a dynamic one
 // whose root the caller passes; bvhAnyHit and bvhClosestHit answer for both.
 // Each visit fetches one 64-byte node and slab-tests both child boxes; leaves are tested at once,
@@ -10,8 +13,15 @@
 // hit a shared edge or vertex find a triangle here exactly when they do in the reference.
 #include "shared/bvh.h"
 
+#ifdef BVH_ADDRESSES
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhTriangleArray { BvhTriangle v[]; };
+#define bvhNodes BvhNodeArray(BVH_ADDRESSES.nodes).v
+#define bvhTriangles BvhTriangleArray(BVH_ADDRESSES.triangles).v
+#else
 layout(std430, binding = BVH_BINDING_NODES) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
 layout(std430, binding = BVH_BINDING_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
+#endif
 #ifndef BVH_NO_COUNTERS
 layout(std430, binding = BVH_BINDING_COUNTERS) buffer BvhCounters { uint bvhCounters[BVH_COUNTER_WORDS]; };
 #endif

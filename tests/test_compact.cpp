@@ -264,7 +264,7 @@ TEST(Compact, RejectsBadInput) {
   EXPECT_THROW(recordWith(s.gbuffer, s.flags, s.rayMax, COMPACT_FLAGGED | 0x10000u), std::invalid_argument);
   // A points buffer over maxStorageBufferRange cannot be bound: the pass is still made (renderers
   // make it for every size) but refuses to record. Only checkable where the limit is small (lavapipe).
-  const std::uint32_t range = context.physicalDevice().getProperties().limits.maxStorageBufferRange;
+  const std::uint32_t range = std::uint32_t(context.storageBufferRange());
   if (std::uint64_t(1700) * 1700 * sizeof(ShadingPoint) > range) {
     const CompactPass tooLarge(context, 1700, 1700);
     const gpu::Buffer input(context, CompactPass::inputBytes(1700, 1700), vk::BufferUsageFlagBits::eStorageBuffer,

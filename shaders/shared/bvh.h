@@ -78,15 +78,26 @@ struct RayHit {
   uint pad0, pad1;
 };
 
+// Where bvh_trace.comp and bvh_rays.comp find the trees: the device addresses of the node and
+// triangle buffers, each as (low, high) 32-bit halves. Read through addresses, a tree is bounded by
+// what one buffer may hold (2 GiB on lavapipe), not by one binding's range (128 MiB).
+struct BvhAddresses {
+  uvec2 nodes;
+  uvec2 triangles;
+};
+
+// Push constants of bvh_rays.comp, 32 bytes.
 struct BvhRaysPush {
+  BvhAddresses bvh;
   uint first;        // first ray of this dispatch
   uint count;        // rays in this dispatch
   uint anyHit;       // 1: stop at the first hit; 0: closest hit
   uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE
 };
 
-// Push constants of bvh_trace.comp, 16 bytes.
+// Push constants of bvh_trace.comp, 32 bytes.
 struct BvhTracePush {
+  BvhAddresses bvh;
   uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE
   uint pad0, pad1, pad2;
 };
