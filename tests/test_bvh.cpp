@@ -143,6 +143,27 @@ TEST(BvhTracer, OneTriangleHitsAndMisses) {
   expectValidationSilent();
 }
 
+// Degenerate input (issue 20): a million copies of one triangle cannot be split by area, so the
+// builder stacks them in leaves of at most kMaxLeafSize; the tree stays shallow, and rays through
+// the stack hit its plane while rays beside it miss, for both queries.
+TEST(BvhTracer, MillionIdenticalTrianglesTrace) {
+  Scene stack = oneTriangle();
+  stack.meshes[0].indices.resize(3 * 1000000);
+  for (std::size_t i = 0; i < stack.meshes[0].indices.size(); ++i) stack.meshes[0].indices[i] = std::uint32_t(i % 3);
+  BvhTracer tracer(validatedContext(), stack);
+  EXPECT_EQ(tracer.stats().triangles, 1000000u);
+  EXPECT_LE(tracer.stats().maxDepth, std::uint32_t(BVH_STACK_SIZE));
+  const std::vector<RayQuery> rays = {{{0.25f, 0.25f, 2.0f}, 0.0f, {0, 0, -1}, 10.0f},
+                                      {{0.75f, 0.75f, 2.0f}, 0.0f, {0, 0, -1}, 10.0f}};
+  for (bool anyHit : {true, false}) {
+    const std::vector<RayHit> hits = tracer.traceRays(rays, anyHit);
+    EXPECT_FLOAT_EQ(hits[0].t, 2.0f);
+    EXPECT_LT(hits[0].triangle, 1000000u);
+    EXPECT_TRUE(hits[1].triangle == BVH_NO_HIT && hits[1].t < 0.0f);
+  }
+  expectValidationSilent();
+}
+
 // The kernels read the tree through device addresses, so one buffer bounds it (lavapipe: 2 GiB,
 // 44 M triangles), not one binding's range; a scene beyond that is refused before building.
 TEST(BvhTracer, RefusesSceneBeyondOneBuffer) {

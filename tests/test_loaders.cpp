@@ -419,6 +419,9 @@ TEST(GltfLoader, NanAndDegenerateTrianglesAreCleanedOrRefused) {
   EXPECT_TRUE(anyWarningContains(s, "degenerate"));
   const json flat = meshDoc({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {0, 1, 2}, bin);  // nothing drawable left
   expectInputError([&] { penumbra::loadScene(writeGltf(dir, flat, bin, "flat")); }, {"flat.gltf", "no drawable"});
+  const std::vector<std::uint16_t> many(3000, 0);  // 1,000 triangles, every vertex in one point
+  const json point = meshDoc({{5, 5, 5}}, many, bin);
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, point, bin, "point")); }, {"point.gltf", "no drawable"});
 }
 
 TEST(GltfLoader, BufferUriOutsideFolderRefused) {
