@@ -147,6 +147,15 @@ int main(int argc, char** argv) {
     if (bench.parsed()) return bench.run();
     if (tune.parsed()) return tune.run();
     return runCommand(config, splitList(methodList), true);
+  } catch (const vk::OutOfDeviceMemoryError& e) {  // beyond what the estimate foresaw
+    std::cerr << "penumbra: out of device memory (" << e.what() << "); lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
+    return 2;
+  } catch (const vk::OutOfHostMemoryError& e) {
+    std::cerr << "penumbra: out of host memory (" << e.what() << "); lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "penumbra: out of memory; lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "penumbra: " << e.what() << "\n";
     return 2;
