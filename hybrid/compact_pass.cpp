@@ -29,7 +29,6 @@ constexpr gpu::Binding kBindings[] = {{COMPACT_BINDING_POSITION, vk::DescriptorT
                                       {COMPACT_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
                                       {COMPACT_BINDING_MASK, vk::DescriptorType::eStorageBuffer},
                                       {COMPACT_BINDING_BLOCKS, vk::DescriptorType::eStorageBuffer},
-                                      {COMPACT_BINDING_POINTS, vk::DescriptorType::eStorageBuffer},
                                       {COMPACT_BINDING_COUNT, vk::DescriptorType::eStorageBuffer}};
 
 // Pixel indices, block offsets and `first + i` in the shaders are 32-bit.
@@ -68,10 +67,6 @@ std::uint32_t maxGroupsX(const gpu::Context& context) {
   return context.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0];
 }
 
-std::uint32_t maxStorageRange(const gpu::Context& context) {
-  return std::uint32_t(context.storageBufferRange());
-}
-
 // Orders every storage write of the previous dispatch before the next one's reads and writes.
 void computeToCompute(const vk::raii::CommandBuffer& cmd) {
   const vk::MemoryBarrier2 barrier{
@@ -91,23 +86,30 @@ void checkBufferSize(const gpu::Buffer& buffer, vk::DeviceSize needed, const cha
 
 }  // namespace
 
+void CompactPass::describeList(shared::FrameData& frame) const {
+  const vk::DeviceAddress address = points_.address();
+  frame.tracePoints = {std::uint32_t(address), std::uint32_t(address >> 32)};
+  frame.traceCapacity = std::uint32_t(points_.size() / sizeof(shared::ShadingPoint));
+}
+
 CompactPass::CompactPass(const gpu::Context& context, std::uint32_t width, std::uint32_t height)
     : width_(width),
       height_(height),
       blockCount_(checkedBlockCount(context, width, height)),
       gridX_(std::min(blockCount_, maxGroupsX(context))),
       gridY_((blockCount_ + gridX_ - 1) / gridX_),
-      maxStorageRange_(maxStorageRange(context)),
+      maxListBytes_(context.maxBufferBytes()),
       mask_(context, vk::DeviceSize(blockCount_) * COMPACT_GROUP_SIZE * 4, vk::BufferUsageFlagBits::eStorageBuffer,
             "compact selection mask"),
       blocks_(context, vk::DeviceSize(blockCount_) * 4, vk::BufferUsageFlagBits::eStorageBuffer,
               "compact block offsets"),
-      // One point per pixel, but no more than one binding holds: a frame larger than that still
-      // appends its flagged pixels (srt), and the host refuses one that flags more (traced_method).
+      // One point per pixel, but no more than one buffer holds (read through its address, the list
+      // is not bound): a frame larger than that still appends its flagged pixels (srt), and the
+      // host refuses one that flags more (traced_method).
       points_(context,
-              std::min<vk::DeviceSize>(vk::DeviceSize(width) * height, maxStorageRange_ / sizeof(shared::ShadingPoint)) *
+              std::min<vk::DeviceSize>(vk::DeviceSize(width) * height, maxListBytes_ / sizeof(shared::ShadingPoint)) *
                   sizeof(shared::ShadingPoint),
-              vk::BufferUsageFlagBits::eStorageBuffer, "compact shading points"),
+              vk::BufferUsageFlagBits::eShaderDeviceAddress, "compact shading points"),
       count_(context, sizeof(shared::TraceCount),
              vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer |
                  vk::BufferUsageFlagBits::eTransferDst,
@@ -122,11 +124,11 @@ void CompactPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuff
   // Checked here, not at construction: a renderer makes the pass for every image size, and only
   // the methods that trace need it to run.
   const std::uint64_t needed = std::uint64_t(width_) * height_ * sizeof(shared::ShadingPoint);
-  if (needed > maxStorageRange_) {
+  if (needed > maxListBytes_) {
     throw std::invalid_argument("CompactPass: " + sizeText(width_, height_) + " needs a " + std::to_string(needed) +
-                                "-byte shading-point buffer, over this device's maxStorageBufferRange of " +
-                                std::to_string(maxStorageRange_) + " bytes; trace images of at most " +
-                                std::to_string(maxStorageRange_ / sizeof(shared::ShadingPoint)) + " pixels");
+                                "-byte shading-point buffer, over the " + std::to_string(maxListBytes_) +
+                                " bytes one buffer of this device holds; trace images of at most " +
+                                std::to_string(maxListBytes_ / sizeof(shared::ShadingPoint)) + " pixels");
   }
   if (gbuffer.width() != width_ || gbuffer.height() != height_) {
     throw std::invalid_argument("CompactPass::record: G-buffer is " + sizeText(gbuffer.width(), gbuffer.height()) +
@@ -140,6 +142,13 @@ void CompactPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuff
   checkBufferSize(traceFlags, inputBytes(width_, height_), "traceFlags");
   checkBufferSize(rayMax, inputBytes(width_, height_), "rayMax");
   checkBufferSize(frame, sizeof(shared::FrameData), "frame");
+  // The scatter writes the list through the frame's address of it: it must be this pass's.
+  const auto* data = static_cast<const shared::FrameData*>(frame.data());
+  shared::FrameData mine{};
+  describeList(mine);
+  if (data->tracePoints != mine.tracePoints || data->traceCapacity != mine.traceCapacity) {
+    throw std::invalid_argument("CompactPass::record: the frame's trace list is not this pass's points(); fill it with describeList");
+  }
 
   // Execution-only: earlier readers of the mask/points/count in this command buffer (a previous
   // frame's trace, its indirect dispatch) finish before they are overwritten.
@@ -157,7 +166,6 @@ void CompactPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuff
       .buffer(COMPACT_BINDING_FRAME, frame)
       .buffer(COMPACT_BINDING_MASK, mask_)
       .buffer(COMPACT_BINDING_BLOCKS, blocks_)
-      .buffer(COMPACT_BINDING_POINTS, points_)
       .buffer(COMPACT_BINDING_COUNT, count_);
   const shared::CompactPush push{mode, width_, height_, blockCount_};
 

@@ -176,7 +176,7 @@ bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
     pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
     timer_.end(cmd);
   }
-  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.points(), compact_.count(), why_};
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_};
   timer_.begin(cmd, "classify");
   if (push.appendList) recordTraceCount(cmd, {0, 0, 1, 1});  // an empty list: workgroups add to count and groupsX
   classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
@@ -218,6 +218,7 @@ void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint3
   frameData_.height = settings_.height;
   frameData_.spp = shared::lightSampleCount(frameData_.light, spp);
   frameData_.shadowFilter = filter;
+  compact_.describeList(frameData_);
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
 }
 

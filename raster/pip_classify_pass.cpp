@@ -13,7 +13,7 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
                                       {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
                                       {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer},
-                                      {12, vk::DescriptorType::eStorageBuffer},       {13, vk::DescriptorType::eStorageBuffer},
+                                      {13, vk::DescriptorType::eStorageBuffer},
                                       {14, vk::DescriptorType::eStorageBuffer},       {15, vk::DescriptorType::eStorageImage}};
 
 }  // namespace
@@ -59,7 +59,6 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                          .buffer(9, pyramid.tiles())
                          .buffer(10, shadowMap.texels())
                          .buffer(11, thin ? thin->texels() : shadowMap.texels())
-                         .buffer(12, out.points)
                          .buffer(13, out.count)
                          .buffer(14, out.why)
                          .storageImage(15, gbuffer.faceNormal().view()));

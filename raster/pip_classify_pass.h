@@ -27,9 +27,9 @@ struct PipBuffers {
   const gpu::Buffer& smVisibility;  // float: sm answer, kept for pip_miss_fraction
   const gpu::Buffer& traceFlags;    // uint: PIP_* bits, 0 = keep the sm answer
   const gpu::Buffer& rayMax;        // float: shadow-ray interval end, 0 = to the light
-  // The trace list (ShadingPoint[pixels], TraceCount) that PipPush::appendList fills: written
-  // only where the flags are nonzero, like smVisibility and rayMax; the caller empties the count.
-  const gpu::Buffer& points;
+  // The count of the trace list that PipPush::appendList fills (TraceCount; the caller empties it).
+  // The list itself is written through frame's FrameData::tracePoints, only where the flags are
+  // nonzero, like smVisibility and rayMax.
   const gpu::Buffer& count;
   const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written with PipPush::explain (zeroed first)
 };

@@ -21,7 +21,6 @@ constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_COUNTERS, vk::Descriptor
                                            {3, vk::DescriptorType::eStorageBuffer},
                                            {4, vk::DescriptorType::eStorageBuffer},
                                            {5, vk::DescriptorType::eStorageBuffer},
-                                           {6, vk::DescriptorType::eStorageBuffer},
                                            {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
                                            {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},

@@ -18,7 +18,7 @@ namespace {
 
 // linespace_trace(.comp|_rq.comp): the moving meshes' BVH nodes and triangles, or their top level
 // and triangle ids (ray queries), in the last two slots.
-std::array<gpu::Binding, 12> bindings(bool rayQueries) {
+std::array<gpu::Binding, 11> bindings(bool rayQueries) {
   const auto storage = vk::DescriptorType::eStorageBuffer;
   return {{{LS_BINDING_TREE, storage},
            {LS_BINDING_NODES, storage},
@@ -27,7 +27,6 @@ std::array<gpu::Binding, 12> bindings(bool rayQueries) {
            {4, storage},
            {5, storage},
            {6, storage},
-           {7, storage},
            {LS_BINDING_BVH_NODES, rayQueries ? vk::DescriptorType::eAccelerationStructureKHR : storage},
            {LS_BINDING_BVH_TRIANGLES, storage},
            {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},

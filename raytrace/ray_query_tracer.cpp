@@ -21,7 +21,6 @@ constexpr gpu::Binding kTraceBindings[] = {{RQ_BINDING_SCENE, Type::eAcceleratio
                                            {3, Type::eStorageBuffer},
                                            {4, Type::eStorageBuffer},
                                            {5, Type::eStorageBuffer},
-                                           {6, Type::eStorageBuffer},
                                            {TRACE_BINDING_POSITION, Type::eStorageImage},
                                            {TRACE_BINDING_NORMAL, Type::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},

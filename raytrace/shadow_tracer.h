@@ -4,16 +4,21 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "gpu/pipeline.h"
 #include "gpu/resources.h"
+#include "shared/frame.h"
+#include "shared/shading_point.h"
 #include "shared/trace.h"
 
 namespace penumbra {
 
 struct TraceJob {
-  const gpu::Buffer& points;      // shared::ShadingPoint[capacity]; the first `count` are valid
+  // shared::ShadingPoint[capacity]; the first `count` are valid. GPU kernels read it through its
+  // device address, frame's FrameData::tracePoints (shaders/point_list.glsl); the host reads it here.
+  const gpu::Buffer& points;
   const gpu::Buffer& count;       // shared::TraceCount (count + indirect dispatch size)
   const gpu::Buffer& frame;       // shared::FrameData (the light; traceInPlace)
   const gpu::Buffer& visibility;  // float per pixel; the tracer writes visibility[point.pixel]
@@ -21,14 +26,20 @@ struct TraceJob {
   // every covered pixel from them instead of the list when FrameData::traceInPlace is set.
   vk::ImageView position, normal;
 
-  // Adds the job to a shadow-ray kernel's descriptors: points, count, frame and visibility at
-  // firstBuffer.. firstBuffer + 3 (where each kernel declares them), the G-buffer at
-  // TRACE_BINDING_POSITION / TRACE_BINDING_NORMAL (trace_points.glsl).
+  // Adds the job to a shadow-ray kernel's descriptors: count, frame and visibility at
+  // firstBuffer.. firstBuffer + 2 (where each kernel declares them), the G-buffer at
+  // TRACE_BINDING_POSITION / TRACE_BINDING_NORMAL (trace_points.glsl). Throws
+  // std::invalid_argument when a job that reads the list has a frame that does not point to it.
   gpu::Descriptors& addTo(gpu::Descriptors& descriptors, std::uint32_t firstBuffer) const {
-    return descriptors.buffer(firstBuffer, points)
-        .buffer(firstBuffer + 1, count)
-        .buffer(firstBuffer + 2, frame)
-        .buffer(firstBuffer + 3, visibility)
+    const auto* data = static_cast<const shared::FrameData*>(frame.data());
+    const vk::DeviceAddress list = data->traceInPlace ? 0 : points.address();
+    if (!data->traceInPlace && (data->tracePoints.x != std::uint32_t(list) || data->tracePoints.y != std::uint32_t(list >> 32) ||
+                                std::uint64_t(data->traceCapacity) * sizeof(shared::ShadingPoint) > points.size())) {
+      throw std::invalid_argument("TraceJob: the frame's FrameData::tracePoints is not the job's points buffer");
+    }
+    return descriptors.buffer(firstBuffer, count)
+        .buffer(firstBuffer + 1, frame)
+        .buffer(firstBuffer + 2, visibility)
         .storageImage(TRACE_BINDING_POSITION, position)
         .storageImage(TRACE_BINDING_NORMAL, normal);
   }

@@ -3,6 +3,8 @@
 // go (block offset + workgroup scan of the mask words' bit counts) and writes their ShadingPoints
 // in tile order; only selected pixels touch the G-buffer.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/compact.h"
 #include "shared/frame.h"
 #include "shared/shading_point.h"
@@ -14,7 +16,7 @@ layout(std430, binding = COMPACT_BINDING_RAYMAX) readonly buffer RayMax { float 
 layout(std430, binding = COMPACT_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = COMPACT_BINDING_MASK) readonly buffer Mask { uint mask[]; };
 layout(std430, binding = COMPACT_BINDING_BLOCKS) readonly buffer Blocks { uint blockOffsets[]; };
-layout(std430, binding = COMPACT_BINDING_POINTS) writeonly buffer Points { ShadingPoint points[]; };
+#include "point_list.glsl"
 #include "compact_common.glsl"
 
 void main() {
@@ -40,6 +42,6 @@ void main() {
     point.pad0 = 0u;
     point.pad1 = 0u;
     point.pad2 = 0u;
-    points[slot++] = point;
+    pointList[slot++] = point;
   }
 }

@@ -27,10 +27,9 @@ bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
 }
 #endif
 layout(local_size_x = TRACE_GROUP_SIZE) in;
-layout(std430, binding = 4) readonly buffer Points { ShadingPoint points[]; };
-layout(std430, binding = 5) readonly buffer Count { TraceCount traceCount; };
-layout(std430, binding = 6) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 7) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
 
 // The line space answers from where the ray is startOffset above the surface on (see LsPush); the

@@ -5,5 +5,7 @@
 #extension GL_EXT_ray_query : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #define LS_MOVING_RAY_QUERY
 #include "linespace_trace.glsl"

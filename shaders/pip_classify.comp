@@ -28,6 +28,8 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/frame.h"
 #include "shared/pip.h"
 #include "shared/pyramid.h"
@@ -47,10 +49,10 @@ layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
 layout(std430, binding = 9) readonly buffer Pyramid { float tiles[]; };
 layout(std430, binding = 10) readonly buffer ShadowTexels { float shadowTexels[]; };
 layout(std430, binding = 11) readonly buffer ThinTexels { float thinTexels[]; };
-layout(std430, binding = 12) writeonly buffer Points { ShadingPoint points[]; };
 layout(std430, binding = 13) buffer Count { TraceCount traceCount; };
 layout(std430, binding = 14) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
+#include "point_list.glsl"
 #include "light_texels.glsl"
 #include "receiver_plane.glsl"
 
@@ -314,11 +316,11 @@ void main() {
     atomicMax(traceCount.groupsX, (first + total + TRACE_GROUP_SIZE - 1u) / TRACE_GROUP_SIZE);
   }
   first = subgroupMax(first);  // the elected lane's, the others hold 0
-  if (flagged == 0u || first + slot >= uint(points.length())) return;  // the host refuses an overfull list
+  if (flagged == 0u || first + slot >= frame.traceCapacity) return;  // the host refuses an overfull list
   // Member by member: the padding is not written (on lavapipe each word is a scatter).
-  points[first + slot].position = position.xyz;
-  points[first + slot].pixel = index;
-  points[first + slot].normal = n;
-  points[first + slot].spp = frame.spp;
-  points[first + slot].rayMax = rayEnd;
+  pointList[first + slot].position = position.xyz;
+  pointList[first + slot].pixel = index;
+  pointList[first + slot].normal = n;
+  pointList[first + slot].spp = frame.spp;
+  pointList[first + slot].rayMax = rayEnd;
 }

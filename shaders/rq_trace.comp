@@ -6,14 +6,15 @@
 #extension GL_EXT_ray_query : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/trace.h"
 #include "shadow_rays.glsl"
 #include "rq_common.glsl"
 layout(local_size_x = TRACE_GROUP_SIZE) in;
-layout(std430, binding = 3) readonly buffer Points { ShadingPoint points[]; };
-layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
-layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 3) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
 
 bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {

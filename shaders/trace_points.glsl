@@ -1,9 +1,11 @@
-// The shading points of a shadow-ray kernel (after `frame`, `points`, `traceCount` are declared):
+// The shading points of a shadow-ray kernel (after `frame` and `traceCount` are declared; the
+// kernel enables GL_EXT_buffer_reference and _uvec2 for point_list.glsl):
 // the compacted list, or - when the frame traces in place (frt on a GPU tracer) - every covered
 // pixel read from the G-buffer, enumerated in the compaction's tile order so that a warp still
 // traces neighbouring pixels. The dispatch covers traceCount.groupsX groups either way.
 #include "shared/compact.h"
 #include "shared/trace.h"
+#include "point_list.glsl"
 layout(binding = TRACE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(binding = TRACE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
 
@@ -16,8 +18,8 @@ uint tracePointIndex() {
 // The index-th point, or false when there is none (past the list, off the image, or sky).
 bool tracePoint(uint index, out ShadingPoint point) {
   if (frame.traceInPlace == 0u) {
-    if (index >= traceCount.count || index >= uint(points.length())) return false;  // the host refuses an overfull list
-    point = points[index];
+    if (index >= traceCount.count || index >= frame.traceCapacity) return false;  // the host refuses an overfull list
+    point = pointList[index];
     return true;
   }
   uvec2 pix = compactPixel(index, compactTilesX(frame.width));

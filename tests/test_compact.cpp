@@ -78,6 +78,7 @@ struct CompactRig {
     data.width = w;
     data.height = h;
     data.spp = kSpp;
+    pass.describeList(data);  // the scatter writes the list through its address
     frame.upload(std::span<const shared::FrameData>(&data, 1));
   }
 

@@ -41,7 +41,8 @@ struct FrameData {
   uint spp;
   uint shadowFilter;  // FILTER_* for the lookup pass
   uint traceInPlace;  // 1: trace kernels take every covered pixel from the G-buffer, not the compacted list
-  uint pad0, pad1, pad2;
+  uint traceCapacity;  // points the trace list holds
+  uvec2 tracePoints;   // the trace list's device address (low, high): shaders/point_list.glsl
 };
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).
