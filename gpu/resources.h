@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "gpu/context.h"
 
 namespace penumbra::gpu {
@@ -43,6 +45,13 @@ class Buffer {
   vk::raii::DeviceMemory memory_{nullptr};
   void* mapped_ = nullptr;
 };
+
+// A buffer's device address as the shaders take it: (low, high) 32-bit halves, for
+// GL_EXT_buffer_reference_uvec2. The buffer needs eShaderDeviceAddress usage.
+inline glm::uvec2 addressHalves(const Buffer& buffer) {
+  const vk::DeviceAddress a = buffer.address();
+  return {std::uint32_t(a), std::uint32_t(a >> 32)};
+}
 
 struct ImageDesc {
   vk::Format format = vk::Format::eR32G32B32A32Sfloat;

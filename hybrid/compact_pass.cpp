@@ -87,8 +87,7 @@ void checkBufferSize(const gpu::Buffer& buffer, vk::DeviceSize needed, const cha
 }  // namespace
 
 void CompactPass::describeList(shared::FrameData& frame) const {
-  const vk::DeviceAddress address = points_.address();
-  frame.tracePoints = {std::uint32_t(address), std::uint32_t(address >> 32)};
+  frame.tracePoints = gpu::addressHalves(points_);
   frame.traceCapacity = std::uint32_t(points_.size() / sizeof(shared::ShadingPoint));
 }
 

@@ -31,7 +31,7 @@ DepthPyramidPass::DepthPyramidPass(const gpu::Context& context, std::uint32_t re
     : resolution_(resolution),
       faceCount_(faceCount),
       levels_(levelCount(resolution)),
-      tiles_(context, tileBytes(resolution, faceCount), vk::BufferUsageFlagBits::eStorageBuffer, "depth pyramid"),
+      tiles_(context, tileBytes(resolution, faceCount), vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress, "depth pyramid"),
       pipeline_(context, depth_pyramid_comp, kBindings, sizeof(shared::PyramidPush), "depth pyramid pipeline") {}
 
 void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,

@@ -11,9 +11,7 @@ constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},   
                                       {2, vk::DescriptorType::eCombinedImageSampler}, {3, vk::DescriptorType::eCombinedImageSampler},
                                       {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
                                       {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
-                                      {8, vk::DescriptorType::eStorageBuffer},        {9, vk::DescriptorType::eStorageBuffer},
-                                      {10, vk::DescriptorType::eStorageBuffer},       {11, vk::DescriptorType::eStorageBuffer},
-                                      {13, vk::DescriptorType::eStorageBuffer},
+                                      {8, vk::DescriptorType::eStorageBuffer},        {13, vk::DescriptorType::eStorageBuffer},
                                       {14, vk::DescriptorType::eStorageBuffer},       {15, vk::DescriptorType::eStorageImage}};
 
 }  // namespace
@@ -38,6 +36,9 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
                              const PipBuffers& out, shared::PipPush push) const {
   push.pyramidLevels = pyramid.levels();
+  push.shadowTexelsAt = gpu::addressHalves(shadowMap.texels());
+  push.thinTexelsAt = gpu::addressHalves(thin ? thin->texels() : shadowMap.texels());
+  push.tilesAt = gpu::addressHalves(pyramid.tiles());
   if (push.explain) {
     cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
     gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite,
@@ -56,9 +57,6 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                          .buffer(6, out.smVisibility)
                          .buffer(7, out.traceFlags)
                          .buffer(8, out.rayMax)
-                         .buffer(9, pyramid.tiles())
-                         .buffer(10, shadowMap.texels())
-                         .buffer(11, thin ? thin->texels() : shadowMap.texels())
                          .buffer(13, out.count)
                          .buffer(14, out.why)
                          .storageImage(15, gbuffer.faceNormal().view()));

@@ -97,7 +97,7 @@ bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings)
 
 gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings) {
   const vk::DeviceSize bytes = bufferReads(context, settings) ? depth.bytes() : 4;
-  return gpu::Buffer(context, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+  return gpu::Buffer(context, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst | vk::BufferUsageFlagBits::eShaderDeviceAddress,
                      depth.desc().name + " texels");
 }
 

@@ -31,12 +31,6 @@ constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_
 
 std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
 
-// (low, high) halves of a buffer's device address, as the kernels take it.
-glm::uvec2 addressOf(const gpu::Buffer& buffer) {
-  const vk::DeviceAddress a = buffer.address();
-  return {std::uint32_t(a), std::uint32_t(a >> 32)};
-}
-
 // Checks what can be known before building (the device, and the triangle buffer, the larger of
 // the two buffers), builds the static tree, then checks the node buffer (both trees).
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
@@ -100,7 +94,9 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
 
 BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
-shared::BvhAddresses BvhTracer::addresses() const { return {addressOf(nodes_), addressOf(triangles_)}; }
+shared::BvhAddresses BvhTracer::addresses() const {
+  return {gpu::addressHalves(nodes_), gpu::addressHalves(triangles_)};
+}
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
   recordTraceStart(cmd, counters_);

@@ -32,8 +32,7 @@ struct TraceJob {
   // std::invalid_argument when a job that reads the list has a frame that does not point to it.
   gpu::Descriptors& addTo(gpu::Descriptors& descriptors, std::uint32_t firstBuffer) const {
     const auto* data = static_cast<const shared::FrameData*>(frame.data());
-    const vk::DeviceAddress list = data->traceInPlace ? 0 : points.address();
-    if (!data->traceInPlace && (data->tracePoints.x != std::uint32_t(list) || data->tracePoints.y != std::uint32_t(list >> 32) ||
+    if (!data->traceInPlace && (data->tracePoints != gpu::addressHalves(points) ||
                                 std::uint64_t(data->traceCapacity) * sizeof(shared::ShadingPoint) > points.size())) {
       throw std::invalid_argument("TraceJob: the frame's FrameData::tracePoints is not the job's points buffer");
     }

@@ -46,9 +46,12 @@ layout(std430, binding = 5) buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
 layout(std430, binding = 7) buffer TraceFlags { uint traceFlags[]; };
 layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
-layout(std430, binding = 9) readonly buffer Pyramid { float tiles[]; };
-layout(std430, binding = 10) readonly buffer ShadowTexels { float shadowTexels[]; };
-layout(std430, binding = 11) readonly buffer ThinTexels { float thinTexels[]; };
+// Read through the device addresses in PipPush; as macros, LIGHT_TEXEL and the mask's search
+// index them like the arrays they were.
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Floats { float v[]; };
+#define shadowTexels Floats(push.shadowTexelsAt).v
+#define thinTexels Floats(push.thinTexelsAt).v
+#define tiles Floats(push.tilesAt).v
 layout(std430, binding = 13) buffer Count { TraceCount traceCount; };
 layout(std430, binding = 14) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };

@@ -422,11 +422,10 @@ TEST(BvhTracer, ShadowRaysMatchEmbreeTracer) {
       if (primary[i].hit) list.push_back({primary[i].position, i, primary[i].normal, spp, rayMax});
     }
     ASSERT_GT(list.size(), 200000u);
-    const vk::DeviceAddress listAddress = points.address();  // the kernel reads the list through it
     shared::FrameData frameData{.light = toGpuLight(light, bounds),
                                 .spp = spp,
                                 .traceCapacity = std::uint32_t(list.size()),
-                                .tracePoints = {std::uint32_t(listAddress), std::uint32_t(listAddress >> 32)}};
+                                .tracePoints = gpu::addressHalves(points)};  // the kernel reads the list through it
     const auto groups = std::uint32_t((list.size() + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE);
     const shared::TraceCount tc{std::uint32_t(list.size()), groups, 1, 1};
     points.upload(std::span<const shared::ShadingPoint>(list));

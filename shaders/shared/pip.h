@@ -30,7 +30,7 @@ PN_BEGIN
                              // (sm lit) or a gap the map closed (sm dark)
 #define PIP_WHY_COUNT 6u
 
-struct PipPush {  // 32 bytes
+struct PipPush {  // 64 bytes
   float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
   float depthMargin;     // widens the receiver's depth interval [d-hat, d] on both sides (world units)
   uint useThin;          // test the thin-triangle mask
@@ -39,6 +39,13 @@ struct PipPush {  // 32 bytes
   uint cornerUnion;      // 1: a corner map's dispatch, which only ORs PIP_PENUMBRA into the flags
   uint appendList;       // 1: also append the flagged pixels to the trace list (no compaction pass)
   uint explain;          // 1: write why each unflagged pixel was left out (PIP_WHY_*)
+  // Device addresses (low, high) of what the classification reads most: the shadow map's and the
+  // thin mask's texel copies and the edge pyramid. On lavapipe a load through an address skips the
+  // bounds check of a storage-buffer load (soft classification at 1024^2: 70 -> 61 ms).
+  uvec2 shadowTexelsAt;
+  uvec2 thinTexelsAt;
+  uvec2 tilesAt;
+  uint pad0, pad1;
 };
 
 PN_END
