@@ -102,9 +102,6 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
   if (options.storageBufferRangeLimit != 0) storageBufferRange_ = std::min(storageBufferRange_, options.storageBufferRangeLimit);
   maxBufferBytes_ = std::min<std::uint64_t>(limits.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize,
                                             limits.get<vk::PhysicalDeviceMaintenance4Properties>().maxBufferSize);
-  bufferDeviceAddress_ = physical_.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
-                             .get<vk::PhysicalDeviceVulkan12Features>()
-                             .bufferDeviceAddress;
 
   // Features of an extension may only be queried where the device has it.
   const char* noRayQuery = std::getenv("PENUMBRA_NO_RAY_QUERY");
@@ -132,7 +129,7 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
                                                 .synchronization2 = VK_TRUE,
                                                 .dynamicRendering = VK_TRUE};
   vk::PhysicalDeviceVulkan12Features features12{
-      .pNext = &features13, .hostQueryReset = VK_TRUE, .bufferDeviceAddress = bufferDeviceAddress_ ? VK_TRUE : VK_FALSE};
+      .pNext = &features13, .hostQueryReset = VK_TRUE, .bufferDeviceAddress = VK_TRUE};  // required by Vulkan 1.3
   vk::PhysicalDeviceFeatures2 features{
       .pNext = &features12,
       .features = {.geometryShader = supported.geometryShader, .fragmentStoresAndAtomics = supported.fragmentStoresAndAtomics}};
@@ -218,13 +215,6 @@ void Context::requireRayQuery(const std::string& user) const {
                                                            : "lacks VK_KHR_ray_query / VK_KHR_acceleration_structure") +
                            "; lavapipe has them from Mesa 25 (scripts/setup.sh installs it from bookworm-backports), or use "
                            "--tracer bvh");
-}
-
-void Context::requireBufferDeviceAddress(const std::string& user) const {
-  if (!bufferDeviceAddress_) {
-    throw std::runtime_error(user + ": " + deviceName() + " (" + driverInfo() + ") lacks buffer device addresses (Vulkan 1.2 "
-                             "bufferDeviceAddress), through which its kernels read buffers larger than one binding");
-  }
 }
 
 void Context::requireSubgroupArithmetic(const std::string& user) const {

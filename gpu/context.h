@@ -32,11 +32,10 @@ class Context {
   // Throws std::runtime_error naming `user` when compute shaders lack subgroup basic/arithmetic
   // operations (the trace kernels sum their counters per subgroup).
   void requireSubgroupArithmetic(const std::string& user) const;
-  // Buffer device addresses (Vulkan 1.2; required by 1.3): enabled when the device has them.
-  // Throws std::runtime_error naming `user` when it does not.
-  void requireBufferDeviceAddress(const std::string& user) const;
   // The most bytes one storage-buffer binding may span (maxStorageBufferRange, or the test limit
-  // of ContextOptions), and the most one buffer may hold (maxBufferSize, maxMemoryAllocationSize).
+  // of ContextOptions), and the most one buffer may hold (maxBufferSize, maxMemoryAllocationSize),
+  // which is what kernels reading through buffer device addresses (always enabled: Vulkan 1.3
+  // requires them) can reach.
   std::uint64_t storageBufferRange() const { return storageBufferRange_; }
   std::uint64_t maxBufferBytes() const { return maxBufferBytes_; }
   std::string driverInfo() const;  // driver name and version, for benchmark rows
@@ -75,7 +74,6 @@ class Context {
   bool debugUtils_ = false;
   bool rayQuery_ = false;
   bool rayQueryTurnedOff_ = false;  // by PENUMBRA_NO_RAY_QUERY=1
-  bool bufferDeviceAddress_ = false;
   std::uint64_t storageBufferRange_ = 0;
   std::uint64_t maxBufferBytes_ = 0;
   mutable std::mutex messagesMutex_;

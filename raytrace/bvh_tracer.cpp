@@ -35,7 +35,6 @@ std::string mebibytes(std::uint64_t bytes) { return std::to_string((bytes + (1u 
 // the two buffers), builds the static tree, then checks the node buffer (both trees).
 Bvh buildChecked(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings) {
   context.requireSubgroupArithmetic("BvhTracer");
-  context.requireBufferDeviceAddress("BvhTracer");
   const std::uint64_t limit = context.maxBufferBytes();
   const std::uint64_t triangles = scene.triangleCount();
   const std::uint64_t dynamicTriangles = triangleCount(scene, MeshSet::Dynamic);

@@ -22,8 +22,7 @@ class BvhTracer final : public ShadowTracer {
   // Builds and uploads the BVH. Throws InputError when the scene is empty or its BVH would not fit
   // one buffer of this device (maxMemoryAllocationSize; 2 GiB on lavapipe: the kernels read it
   // through its device address, so one binding's 128 MiB range does not limit it), and
-  // std::runtime_error when the device lacks subgroup arithmetic in compute shaders or buffer
-  // device addresses.
+  // std::runtime_error when the device lacks subgroup arithmetic in compute shaders.
   BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
 
   std::string name() const override { return "bvh"; }
