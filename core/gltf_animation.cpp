@@ -60,9 +60,9 @@ NodeAnimations::NodeAnimations(const tinygltf::Model& model, const std::string& 
     channel.node = c.target_node;
     channel.path = path_;
     channel.step = s.interpolation == "STEP";
-    channel.times = readFloats(viewAccessor(model, s.input, "animation input", path, Kind::Scalar), 1);
+    channel.times = readFloats(model, s.input, "animation input", path, Kind::Scalar);
     const std::size_t width = path_ == 1 ? 4 : 3;
-    channel.values = readFloats(viewAccessor(model, s.output, "animation output", path, path_ == 1 ? Kind::Vec4 : Kind::Vec3), width);
+    channel.values = readFloats(model, s.output, "animation output", path, path_ == 1 ? Kind::Vec4 : Kind::Vec3);
     for (std::size_t k = 0; k < channel.times.size(); ++k) {
       const float t = channel.times[k];
       if (!std::isfinite(t) || t < 0.0f || (k > 0 && !(t > channel.times[k - 1]))) {

@@ -27,11 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using gltf::ElementView;
 using gltf::fail;
 using gltf::readIndices;
 using gltf::readVec3;
-using gltf::viewAccessor;
 
 std::vector<unsigned char> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -127,8 +125,24 @@ bool skipImageDecode(tinygltf::Image*, const int, std::string*, std::string*, in
   return true;
 }
 
-// Refuses external references before tinygltf opens anything, naming their kind.
-void checkUris(const std::string& jsonText, const std::string& path, const std::string& folder) {
+// Extensions that change geometry or lights and are read here; extensions of materials and
+// textures only change appearance, which Penumbra does not render, so they may be ignored even
+// where a file requires them.
+bool readsExtension(const std::string& name) { return name == "KHR_mesh_quantization" || name == "KHR_lights_punctual"; }
+bool appearanceOnly(const std::string& name) {
+  return name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 || name.rfind("EXT_texture_", 0) == 0;
+}
+
+std::string withoutExtension(const std::string& name) {
+  if (name == "EXT_meshopt_compression") return "write it without meshopt compression (gltfpack without -c / -cc)";
+  if (name == "KHR_draco_mesh_compression") return "export it without Draco compression";
+  return "export it without that extension";
+}
+
+// Before tinygltf opens anything: refuses external references outside the model's folder (naming
+// their kind) and required extensions nothing here reads (naming them: a compressed buffer would
+// otherwise fail as a truncated one). Returns notes on the optional extensions it ignores.
+std::vector<std::string> checkDocument(const std::string& jsonText, const std::string& path, const std::string& folder) {
   nlohmann::json doc;
   const std::size_t end = jsonText.find_last_not_of(std::string(" \t\r\n\0", 5));  // GLB padding
   try {
@@ -137,6 +151,25 @@ void checkUris(const std::string& jsonText, const std::string& path, const std::
     fail(path, std::string("is not valid JSON (") + e.what() + ")", "the file is truncated or malformed; re-export it");
   }
   if (!doc.is_object()) fail(path, "top-level JSON value is not an object", "give a glTF 2.0 file");
+  const auto names = [&](const char* key) {
+    std::vector<std::string> out;
+    const auto list = doc.find(key);
+    if (list == doc.end() || !list->is_array()) return out;
+    for (const auto& item : *list) {
+      if (item.is_string()) out.push_back(item.get<std::string>());
+    }
+    return out;
+  };
+  const std::vector<std::string> required = names("extensionsRequired");
+  for (const std::string& name : required) {
+    if (!readsExtension(name) && !appearanceOnly(name)) {
+      fail(path, "requires the extension " + name + ", which Penumbra does not read", withoutExtension(name));
+    }
+  }
+  std::vector<std::string> notes;
+  for (const std::string& name : names("extensionsUsed")) {
+    if (!readsExtension(name)) notes.push_back("glTF extension " + name + " ignored (it changes appearance only, or is optional)");
+  }
   for (const char* kind : {"buffers", "images"}) {
     const auto list = doc.find(kind);
     if (list == doc.end() || !list->is_array()) continue;
@@ -144,6 +177,10 @@ void checkUris(const std::string& jsonText, const std::string& path, const std::
       if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
       const std::string uri = item["uri"].get<std::string>();
       if (uri.rfind("data:", 0) == 0) continue;
+      if (uri.empty()) {
+        fail(path, std::string("has a ") + (kind[0] == 'b' ? "buffer" : "image") + " whose uri is empty",
+             "name the file it refers to, or leave uri out in a .glb whose BIN chunk holds the data");
+      }
       const std::string why = confinedPathProblem(folder, uri);
       if (!why.empty()) {
         fail(path, std::string("refuses ") + (kind[0] == 'b' ? "buffer" : "image") + " URI '" + uri +
@@ -152,6 +189,7 @@ void checkUris(const std::string& jsonText, const std::string& path, const std::
       }
     }
   }
+  return notes;
 }
 
 // A unit direction under a transform's linear part (`local` itself if it collapses or overflows).
@@ -206,16 +244,16 @@ struct Converter {
     }
     Mesh out;
     out.name = name;
-    out.positions = readVec3(viewAccessor(model, pos->second, "POSITION", path));  // local until run() places them
+    out.positions = readVec3(model, pos->second, "POSITION", path);  // local until run() places them
     if (const auto nrm = prim.attributes.find("NORMAL"); nrm != prim.attributes.end()) {
-      out.normals = readVec3(viewAccessor(model, nrm->second, "NORMAL", path));
+      out.normals = readVec3(model, nrm->second, "NORMAL", path);
       const glm::dmat3 normalMatrix = glm::inverseTranspose(glm::dmat3(world));
       for (glm::vec3& n : out.normals) n = worldDirection(normalMatrix, n);
       if (out.normals.size() != out.positions.size()) out.normals.clear();  // cleanScene recomputes
     }
     std::vector<std::uint32_t> idx;
     if (prim.indices >= 0) {
-      idx = readIndices(viewAccessor(model, prim.indices, "indices", path, gltf::Kind::Indices));
+      idx = readIndices(model, prim.indices, "indices", path);
     } else {
       idx.resize(out.positions.size());
       for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
@@ -402,7 +440,8 @@ Scene loadGltf(const std::string& path) {
   FsContext ctx;
   ctx.folder = fs::absolute(path, ec).parent_path().string();
   ctx.prefix = ctx.folder.empty() || ctx.folder.back() == '/' ? ctx.folder : ctx.folder + "/";
-  checkUris(binary ? validateGlb(bytes, path) : std::string(bytes.begin(), bytes.end()), path, ctx.folder);
+  const std::vector<std::string> notes =
+      checkDocument(binary ? validateGlb(bytes, path) : std::string(bytes.begin(), bytes.end()), path, ctx.folder);
 
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &ctx});
@@ -422,6 +461,7 @@ Scene loadGltf(const std::string& path) {
                 "check that the file and the buffers it names are complete");
 
   Scene scene;
+  scene.warnings = notes;
   for (std::size_t start = 0; start < warn.size();) {
     const std::size_t end = std::min(warn.find('\n', start), warn.size());
     if (end > start) scene.warnings.push_back("glTF: " + warn.substr(start, end - start));

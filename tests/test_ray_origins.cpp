@@ -11,7 +11,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <unistd.h>
 
 #include "core/view.h"
@@ -118,15 +117,7 @@ std::string writeObjAt(double offset) {
   mesh::addBox(m, {4, 3, 3}, {0.03f, 0, 0}, {0, 3, 0}, {0, 0, 0.03f});
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("penumbra_far_" + std::to_string(::getpid()) + "_" + std::to_string(offset) + ".obj")).string();
-  std::ofstream out(path);
-  char line[128];
-  for (const glm::vec3& p : m.positions) {
-    std::snprintf(line, sizeof line, "v %.6f %.6f %.6f\n", offset + double(p.x), double(p.y), offset + double(p.z));
-    out << line;
-  }
-  for (std::size_t i = 0; i < m.indices.size(); i += 3) {
-    out << "f " << m.indices[i] + 1 << " " << m.indices[i + 1] + 1 << " " << m.indices[i + 2] + 1 << "\n";
-  }
+  writeObj({m}, path, {offset, 0.0, offset});
   return path;
 }
 
