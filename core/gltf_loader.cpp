@@ -1,6 +1,7 @@
 // glTF 2.0 loader. Files are untrusted: the GLB container is validated before tinygltf sees it,
 // external files are confined to the model's folder, and every accessor is bounds-checked.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -19,6 +20,7 @@
 
 #include "core/gltf_accessor.h"
 #include "core/gltf_animation.h"
+#include "core/gltf_meshopt.h"
 #include "core/scene_loader.h"
 
 namespace penumbra {
@@ -46,7 +48,13 @@ std::uint32_t readU32(const std::vector<unsigned char>& b, std::size_t at) {
 
 // GLB container (spec section "Binary glTF Layout"): checked here so no lying length reaches tinygltf.
 // Returns the JSON chunk text.
-std::string validateGlb(const std::vector<unsigned char>& b, const std::string& path) {
+// The JSON chunk's text and where the BIN chunk lies (0 bytes without one).
+struct GlbChunks {
+  std::string json;
+  std::size_t binOffset = 0, binSize = 0;
+};
+
+GlbChunks validateGlb(const std::vector<unsigned char>& b, const std::string& path) {
   const std::string fix = "the .glb is truncated or corrupt; re-export it";
   const std::size_t size = b.size();
   if (size < 12) fail(path, "only " + std::to_string(size) + " bytes, shorter than the 12-byte GLB header", fix);
@@ -57,7 +65,8 @@ std::string validateGlb(const std::vector<unsigned char>& b, const std::string& 
          std::to_string(size), fix);
   }
   std::size_t offset = 12;
-  std::string json;
+  GlbChunks out;
+  std::string& json = out.json;
   for (int chunk = 0; offset < size; ++chunk) {
     const std::string field = "chunk " + std::to_string(chunk) + (chunk == 0 ? " (JSON)" : chunk == 1 ? " (BIN)" : "");
     if (size - offset < 8) fail(path, field + " header needs 8 bytes but only " + std::to_string(size - offset) + " remain", fix);
@@ -69,11 +78,14 @@ std::string validateGlb(const std::vector<unsigned char>& b, const std::string& 
     if (chunk == 0) {
       if (readU32(b, offset + 4) != 0x4E4F534Au) fail(path, "first GLB chunk is not JSON", fix);
       json.assign(reinterpret_cast<const char*>(b.data()) + offset + 8, length);
+    } else if (chunk == 1 && readU32(b, offset + 4) == 0x004E4942u) {  // "BIN\0"
+      out.binOffset = offset + 8;
+      out.binSize = length;
     }
     offset += 8 + length;
   }
   if (json.empty()) fail(path, "GLB has no JSON chunk", fix);
-  return json;
+  return out;
 }
 
 // tinygltf reaches the file system only through these callbacks. tinygltf tries
@@ -128,21 +140,19 @@ bool skipImageDecode(tinygltf::Image*, const int, std::string*, std::string*, in
 // Extensions that change geometry or lights and are read here; extensions of materials and
 // textures only change appearance, which Penumbra does not render, so they may be ignored even
 // where a file requires them.
-bool readsExtension(const std::string& name) { return name == "KHR_mesh_quantization" || name == "KHR_lights_punctual"; }
+bool readsExtension(const std::string& name) {
+  return name == "KHR_mesh_quantization" || name == "KHR_lights_punctual" || name == "EXT_meshopt_compression";
+}
 bool appearanceOnly(const std::string& name) {
   return name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 || name.rfind("EXT_texture_", 0) == 0;
 }
 
 std::string withoutExtension(const std::string& name) {
-  if (name == "EXT_meshopt_compression") return "write it without meshopt compression (gltfpack without -c / -cc)";
   if (name == "KHR_draco_mesh_compression") return "export it without Draco compression";
   return "export it without that extension";
 }
 
-// Before tinygltf opens anything: refuses external references outside the model's folder (naming
-// their kind) and required extensions nothing here reads (naming them: a compressed buffer would
-// otherwise fail as a truncated one). Returns notes on the optional extensions it ignores.
-std::vector<std::string> checkDocument(const std::string& jsonText, const std::string& path, const std::string& folder) {
+nlohmann::json parseDocument(const std::string& jsonText, const std::string& path) {
   nlohmann::json doc;
   const std::size_t end = jsonText.find_last_not_of(std::string(" \t\r\n\0", 5));  // GLB padding
   try {
@@ -151,6 +161,13 @@ std::vector<std::string> checkDocument(const std::string& jsonText, const std::s
     fail(path, std::string("is not valid JSON (") + e.what() + ")", "the file is truncated or malformed; re-export it");
   }
   if (!doc.is_object()) fail(path, "top-level JSON value is not an object", "give a glTF 2.0 file");
+  return doc;
+}
+
+// Before tinygltf opens anything: refuses external references outside the model's folder (naming
+// their kind) and required extensions nothing here reads (naming them: a compressed buffer would
+// otherwise fail as a truncated one). Returns notes on the optional extensions it ignores.
+std::vector<std::string> checkDocument(const nlohmann::json& doc, const std::string& path, const std::string& folder) {
   const auto names = [&](const char* key) {
     std::vector<std::string> out;
     const auto list = doc.find(key);
@@ -440,17 +457,36 @@ Scene loadGltf(const std::string& path) {
   FsContext ctx;
   ctx.folder = fs::absolute(path, ec).parent_path().string();
   ctx.prefix = ctx.folder.empty() || ctx.folder.back() == '/' ? ctx.folder : ctx.folder + "/";
-  const std::vector<std::string> notes =
-      checkDocument(binary ? validateGlb(bytes, path) : std::string(bytes.begin(), bytes.end()), path, ctx.folder);
+  const GlbChunks chunks = binary ? validateGlb(bytes, path) : GlbChunks{std::string(bytes.begin(), bytes.end())};
+  const nlohmann::json doc = parseDocument(chunks.json, path);
+  std::vector<std::string> notes = checkDocument(doc, path, ctx.folder);
+  // Meshopt-compressed views are decoded first, into a GLB tinygltf reads as a plain one.
+  std::vector<unsigned char> decoded;
+  const nlohmann::json used = doc.value("extensionsUsed", nlohmann::json::array());
+  const bool meshopt = used.is_array() && std::find(used.begin(), used.end(), "EXT_meshopt_compression") != used.end();
+  if (meshopt) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<unsigned char> bin(bytes.begin() + std::ptrdiff_t(chunks.binOffset),
+                                         bytes.begin() + std::ptrdiff_t(chunks.binOffset + chunks.binSize));
+    gltf::MeshoptResult result = gltf::decodeMeshopt(doc, bin, ctx.folder, path);
+    decoded = std::move(result.glb);
+    notes.push_back("EXT_meshopt_compression: " + std::to_string(result.views) + " bufferViews decoded (" +
+                    std::to_string(result.decodedBytes >> 10) + " KiB) in " +
+                    std::to_string(int(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count())) +
+                    " ms");
+  }
+  const std::vector<unsigned char>& input = meshopt ? decoded : bytes;
+  if (input.size() > std::numeric_limits<unsigned int>::max()) fail(path, "decodes to more than 4 GiB", "split the model");
 
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &ctx});
   loader.SetImageLoader(&skipImageDecode, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), ctx.folder)
-                         : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                                      unsigned(bytes.size()), ctx.folder);
+  const bool ok = binary || meshopt
+                     ? loader.LoadBinaryFromMemory(&model, &err, &warn, input.data(), unsigned(input.size()), ctx.folder)
+                     : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(input.data()),
+                                                  unsigned(input.size()), ctx.folder);
   if (!ctx.refused.empty()) {  // also catches image URIs, whose read failures tinygltf only warns about
     fail(path, "refuses external file " + ctx.refused.front() + ": outside the model's folder",
          "copy the file into '" + ctx.folder + "' and refer to it relatively, or embed it as a data: URI");
