@@ -1,5 +1,7 @@
 // glTF 2.0 loader. Files are untrusted: the GLB container is validated before tinygltf sees it,
 // external files are confined to the model's folder, and every accessor is bounds-checked.
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -398,26 +400,10 @@ struct Converter {
     return out;
   }
 
-  // Moves every mesh from its local coordinates into the scene's (world minus scene.origin),
-  // composing in double so that a node placed far from the world origin keeps its mesh's detail.
-  glm::dmat4 placeMeshes() {
-    WorldBounds world;
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-      for (const glm::vec3& v : scene.meshes[m].positions) world.extend(glm::dvec3(meshWorld[m] * glm::dvec4(v, 1.0)));
-    }
-    scene.origin = world.origin();
-    const glm::dmat4 toScene = glm::translate(glm::dmat4(1.0), -scene.origin);
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-      const glm::dmat4 place = toScene * meshWorld[m];
-      for (glm::vec3& v : scene.meshes[m].positions) v = glm::vec3(place * glm::dvec4(v, 1.0));
-    }
-    return toScene;
-  }
-
   void run() {
     onPath.assign(model.nodes.size(), 0);
     for (int root : roots()) visit(root);
-    const glm::dmat4 toScene = placeMeshes();
+    const glm::dmat4 toScene = placeMeshes(scene, meshWorld);
     for (const LightNode& l : lightNodes) addLight(*l.node, toScene * l.world);
     // Rest positions are taken by cleanScene (after it cleaned the mesh), so they match the mesh.
     for (const Animated& a : animated) {
@@ -445,9 +431,25 @@ struct Converter {
   }
 };
 
+// Debian's libdraco, which assimp loads, carries a tinygltf of its own, of another version: were
+// this program's tinygltf calls bound to it (the dynamic linker takes the first library that
+// defines a symbol), every model would be read with the wrong structure layouts. Refuse instead.
+void requireDebiansTinygltf() {
+  static const std::string where = [] {
+    Dl_info info{};
+    return dladdr(reinterpret_cast<void*>(&tinygltf::FileExists), &info) && info.dli_fname ? std::string(info.dli_fname)
+                                                                                           : std::string();
+  }();
+  if (where.find("libtinygltf") == std::string::npos) {
+    throw std::runtime_error("tinygltf calls are bound to '" + where + "', not to libtinygltf: link TinyGLTF::TinyGLTF "
+                             "before assimp (whose libdraco carries another tinygltf)");
+  }
+}
+
 }  // namespace
 
 Scene loadGltf(const std::string& path) {
+  requireDebiansTinygltf();
   const std::vector<unsigned char> bytes = readBytes(path);
   if (bytes.size() > std::numeric_limits<unsigned int>::max()) fail(path, "is larger than 4 GiB", "split the model");
   std::string ext = fs::path(path).extension().string();

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 namespace penumbra {
 
 Bounds Scene::bounds() const {
@@ -45,6 +47,20 @@ glm::dvec3 WorldBounds::origin() const {
   if (!(radius > 0.0)) return centre;
   const double step = std::exp2(std::floor(std::log2(radius)));
   return glm::round(centre / step) * step;
+}
+
+glm::dmat4 placeMeshes(Scene& scene, const std::vector<glm::dmat4>& meshWorld) {
+  WorldBounds world;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const glm::vec3& v : scene.meshes[m].positions) world.extend(glm::dvec3(meshWorld[m] * glm::dvec4(v, 1.0)));
+  }
+  scene.origin = world.origin();
+  const glm::dmat4 toScene = glm::translate(glm::dmat4(1.0), -scene.origin);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const glm::dmat4 place = toScene * meshWorld[m];
+    for (glm::vec3& v : scene.meshes[m].positions) v = glm::vec3(place * glm::dvec4(v, 1.0));
+  }
+  return toScene;
 }
 
 std::size_t Scene::triangleCount() const {

@@ -82,6 +82,13 @@ struct WorldBounds {
   glm::dvec3 origin() const;
 };
 
+struct Scene;
+// Moves each mesh of `scene` from its local coordinates by its world transform (meshWorld[i] for
+// scene.meshes[i]) into the scene's, composed in double, after choosing Scene::origin from the
+// world bounds (WorldBounds): a node placed far from the world origin keeps its mesh's detail.
+// Returns the world-to-scene transform, for the loader's cameras and lights.
+glm::dmat4 placeMeshes(Scene& scene, const std::vector<glm::dmat4>& meshWorld);
+
 struct Scene {
   std::string name;
   // World position of (0,0,0) in every coordinate below. Options and view files give cameras and

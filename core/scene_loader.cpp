@@ -39,7 +39,8 @@ std::string lowercase(std::string s) {
 std::string supportedForms() {
   std::string names;
   for (const std::string& name : builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-  return "builtin:NAME[:LEVEL] (NAME one of: " + names + "), a .gltf/.glb file or an .obj file";
+  return "builtin:NAME[:LEVEL] (NAME one of: " + names + "), a .gltf/.glb file, an .obj file or a model in a format "
+         "assimp reads (.ply, .stl, .off, .dae, .fbx, .3ds, ...)";
 }
 
 }  // namespace
@@ -54,7 +55,8 @@ Scene loadScene(const std::string& spec) {
   } else {
     const fs::path path(spec);
     const std::string ext = lowercase(path.extension().string());
-    if (ext != ".gltf" && ext != ".glb" && ext != ".obj") {
+    const bool gltf = ext == ".gltf" || ext == ".glb";
+    if (!gltf && ext != ".obj" && !assimpReads(ext)) {
       throw InputError("scene '" + spec + "' has " +
                        (ext.empty() ? std::string("no file extension") : "the unsupported extension '" + ext + "'") +
                        "; give " + supportedForms());
@@ -67,7 +69,7 @@ Scene loadScene(const std::string& spec) {
       throw InputError("scene file '" + spec + "' is not a regular file; give the path of the model file itself");
     }
     try {
-      scene = ext == ".obj" ? loadObj(spec) : loadGltf(spec);
+      scene = gltf ? loadGltf(spec) : ext == ".obj" ? loadObj(spec) : loadAssimp(spec);
     } catch (const InputError&) {
       throw;
     } catch (const std::exception& e) {

@@ -18,6 +18,12 @@ Scene loadGltf(const std::string& path);
 // Wavefront OBJ through tinyobjloader (materials' diffuse colour as base colour).
 Scene loadObj(const std::string& path);
 
+// Every other format assimp reads (.ply, .stl, .off, .dae, .fbx, .3ds, ...): triangles with their
+// node transforms and diffuse colours; lines and points dropped with a note; only the model's
+// folder is read. assimpReads(".ext") says whether assimp takes the extension.
+Scene loadAssimp(const std::string& path);
+bool assimpReads(const std::string& extension);
+
 // Why `reference` (a relative path or URI found inside a model file) would leave `folder`: empty
 // when it stays inside, else the reason. Absolute references, ../ climbs and links that resolve
 // outside are refused. Shared by the glTF and OBJ loaders.
