@@ -72,8 +72,10 @@ Scene loadAssimp(const std::string& path) {
          "copy what it refers to beside the model and refer to it relatively");
   }
   if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
-    fail(path, std::string("could not be read by assimp (") + importer.GetErrorString() + ")",
-         "check that the file is complete and a format assimp reads");
+    const std::string why = importer.GetErrorString();
+    fail(path, why.empty() ? "holds no complete scene assimp can read (files it names may be missing or outside its folder)"
+                           : "could not be read by assimp (" + why + ")",
+         "check that the file and what it names are complete, beside it, and in a format assimp reads");
   }
 
   Scene scene;
