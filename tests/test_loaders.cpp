@@ -717,8 +717,10 @@ TEST(SceneLoader, MissingFileAndUnknownExtension) {
   TempDir dir;
   expectInputError([&] { penumbra::loadScene(dir.file("nope.gltf")); }, {"scene file '" + dir.file("nope.gltf") + "' not found"});
   expectInputError([&] { penumbra::loadScene(dir.file("nope.obj")); }, {"nope.obj", "not found"});
-  writeFile(dir.file("model.fbx"), std::string("x"));
-  expectInputError([&] { penumbra::loadScene(dir.file("model.fbx")); }, {"model.fbx", ".fbx", "builtin:", ".gltf", ".obj"});
+  writeFile(dir.file("model.xyzzy"), std::string("x"));
+  expectInputError([&] { penumbra::loadScene(dir.file("model.xyzzy")); }, {"model.xyzzy", ".xyzzy", "builtin:", ".gltf", ".obj", "assimp"});
+  writeFile(dir.file("model.fbx"), std::string("x"));  // a format assimp reads, but not this file
+  expectInputError([&] { penumbra::loadScene(dir.file("model.fbx")); }, {"model.fbx", "could not be read by assimp"});
   expectInputError([&] { penumbra::loadScene("courtyard"); }, {"'courtyard'", "builtin:"});
 }
 
