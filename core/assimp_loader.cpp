@@ -2,15 +2,15 @@
 // Asset Import Library. The same rules as the glTF loader: the file is untrusted, only the model's
 // own folder may be read (a confining IOSystem), node transforms are composed in double and the
 // scene is stored relative to its origin (placeMeshes), lines and points are dropped with a note.
-#include <filesystem>
-#include <memory>
-#include <utility>
-
 #include <assimp/DefaultIOSystem.h>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <filesystem>
 #include <glm/gtc/matrix_inverse.hpp>
+#include <memory>
+#include <utility>
 
 #include "core/scene_loader.h"
 
@@ -65,16 +65,17 @@ Scene loadAssimp(const std::string& path) {
   Assimp::Importer importer;
   auto* io = new ConfinedIOSystem(file.parent_path().string());
   importer.SetIOHandler(io);  // the importer owns it
-  const aiScene* ai = importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_SortByPType |
-                                                            aiProcess_ValidateDataStructure);
+  const aiScene* ai =
+      importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   if (!io->refused.empty()) {
     fail(path, "refuses to read '" + io->refused.front() + "': outside the model's folder",
          "copy what it refers to beside the model and refer to it relatively");
   }
   if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
     const std::string why = importer.GetErrorString();
-    fail(path, why.empty() ? "holds no complete scene assimp can read (files it names may be missing or outside its folder)"
-                           : "could not be read by assimp (" + why + ")",
+    fail(path,
+         why.empty() ? "holds no complete scene assimp can read (files it names may be missing or outside its folder)"
+                     : "could not be read by assimp (" + why + ")",
          "check that the file and what it names are complete, beside it, and in a format assimp reads");
   }
 
@@ -86,7 +87,8 @@ Scene loadAssimp(const std::string& path) {
   while (!open.empty()) {
     const auto [node, world] = open.back();
     open.pop_back();
-    for (unsigned i = 0; i < node->mNumChildren; ++i) open.emplace_back(node->mChildren[i], world * toGlm(node->mChildren[i]->mTransformation));
+    for (unsigned i = 0; i < node->mNumChildren; ++i)
+      open.emplace_back(node->mChildren[i], world * toGlm(node->mChildren[i]->mTransformation));
     const glm::dmat3 normalMatrix = glm::inverseTranspose(glm::dmat3(world));
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       const aiMesh* src = ai->mMeshes[node->mMeshes[k]];
@@ -97,7 +99,8 @@ Scene loadAssimp(const std::string& path) {
       Mesh mesh;
       mesh.name = src->mName.length ? src->mName.C_Str() : "mesh" + std::to_string(node->mMeshes[k]);
       mesh.positions.reserve(src->mNumVertices);
-      for (unsigned v = 0; v < src->mNumVertices; ++v) mesh.positions.emplace_back(src->mVertices[v].x, src->mVertices[v].y, src->mVertices[v].z);
+      for (unsigned v = 0; v < src->mNumVertices; ++v)
+        mesh.positions.emplace_back(src->mVertices[v].x, src->mVertices[v].y, src->mVertices[v].z);
       if (src->mNormals) {
         for (unsigned v = 0; v < src->mNumVertices; ++v) {
           const glm::dvec3 n = normalMatrix * glm::dvec3(src->mNormals[v].x, src->mNormals[v].y, src->mNormals[v].z);
@@ -122,7 +125,8 @@ Scene loadAssimp(const std::string& path) {
     }
   }
   placeMeshes(scene, meshWorld);
-  if (dropped) scene.warnings.push_back(std::to_string(dropped) + " lines and points dropped (only triangles cast shadows)");
+  if (dropped)
+    scene.warnings.push_back(std::to_string(dropped) + " lines and points dropped (only triangles cast shadows)");
   return scene;
 }
 

@@ -4,12 +4,12 @@
 // mapped to [-1, 1] or [0, 1] as the specification says, as KHR_mesh_quantization writes them),
 // any byteStride, no bufferView (all zeros), and sparse substitutions on top.
 #pragma once
+#include <tiny_gltf.h>
+
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <tiny_gltf.h>
 
 #include "core/scene.h"
 
@@ -23,7 +23,8 @@ enum class Kind { Vec3, Vec4, Scalar, Indices };
 
 std::vector<float> readFloats(const tinygltf::Model& model, int index, const std::string& what, const std::string& path,
                               Kind kind);
-std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const std::string& what, const std::string& path);
+std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const std::string& what,
+                                const std::string& path);
 std::vector<std::uint32_t> readIndices(const tinygltf::Model& model, int index, const std::string& what,
                                        const std::string& path);
 

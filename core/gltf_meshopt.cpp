@@ -1,11 +1,11 @@
 #include "core/gltf_meshopt.h"
 
+#include <meshoptimizer.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
-
-#include <meshoptimizer.h>
 
 #include "core/gltf_accessor.h"
 #include "core/scene_loader.h"
@@ -44,12 +44,15 @@ const std::vector<unsigned char>& sourceBuffer(const nlohmann::json& doc, std::s
   }
   if (auto it = files.find(index); it != files.end()) return it->second;
   const std::string uri = buffer["uri"].is_string() ? buffer["uri"].get<std::string>() : std::string();
-  if (uri.rfind("data:", 0) == 0) fail(path, where + " is a data: URI", "write the compressed model as a .glb or with a .bin");
+  if (uri.rfind("data:", 0) == 0)
+    fail(path, where + " is a data: URI", "write the compressed model as a .glb or with a .bin");
   const std::string why = confinedPathProblem(folder, uri);
-  if (!why.empty()) fail(path, where + " '" + uri + "' is outside the model's folder (" + why + ")", "copy it beside the model");
+  if (!why.empty())
+    fail(path, where + " '" + uri + "' is outside the model's folder (" + why + ")", "copy it beside the model");
   std::ifstream in(std::filesystem::path(folder) / uri, std::ios::binary);
   if (!in) fail(path, where + " '" + uri + "' cannot be opened", "check that the file beside the model is complete");
-  return files[index] = std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return files[index] =
+             std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 // Decodes one compressed view (its extension object `ext`) into `out` (count * byteStride bytes).
@@ -59,21 +62,29 @@ void decodeView(const nlohmann::json& ext, const unsigned char* src, std::size_t
   const std::string filter = ext.value("filter", std::string("NONE"));
   int rc = -1;
   if (mode == "ATTRIBUTES") {
-    if (stride == 0 || stride % 4 != 0 || stride > 256) fail(path, where + " has byteStride " + std::to_string(stride), kCorrupt);
+    if (stride == 0 || stride % 4 != 0 || stride > 256)
+      fail(path, where + " has byteStride " + std::to_string(stride), kCorrupt);
     rc = meshopt_decodeVertexBuffer(out, count, stride, src, srcSize);
-    if (rc == 0 && filter == "OCTAHEDRAL" && (stride == 4 || stride == 8)) meshopt_decodeFilterOct(out, count, stride);
-    else if (rc == 0 && filter == "QUATERNION" && stride == 8) meshopt_decodeFilterQuat(out, count, stride);
-    else if (rc == 0 && filter == "EXPONENTIAL") meshopt_decodeFilterExp(out, count, stride);
-    else if (rc == 0 && filter != "NONE") fail(path, where + " has filter " + filter + " with byteStride " + std::to_string(stride), kCorrupt);
+    if (rc == 0 && filter == "OCTAHEDRAL" && (stride == 4 || stride == 8))
+      meshopt_decodeFilterOct(out, count, stride);
+    else if (rc == 0 && filter == "QUATERNION" && stride == 8)
+      meshopt_decodeFilterQuat(out, count, stride);
+    else if (rc == 0 && filter == "EXPONENTIAL")
+      meshopt_decodeFilterExp(out, count, stride);
+    else if (rc == 0 && filter != "NONE")
+      fail(path, where + " has filter " + filter + " with byteStride " + std::to_string(stride), kCorrupt);
   } else if (mode == "TRIANGLES" || mode == "INDICES") {
     if (stride != 2 && stride != 4) fail(path, where + " has index size " + std::to_string(stride), kCorrupt);
-    if (mode == "TRIANGLES" && count % 3 != 0) fail(path, where + " has " + std::to_string(count) + " indices, not triangles", kCorrupt);
+    if (mode == "TRIANGLES" && count % 3 != 0)
+      fail(path, where + " has " + std::to_string(count) + " indices, not triangles", kCorrupt);
     rc = mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out, count, stride, src, srcSize)
                              : meshopt_decodeIndexSequence(out, count, stride, src, srcSize);
   } else {
     fail(path, where + " has mode '" + mode + "'", "expected ATTRIBUTES, TRIANGLES or INDICES; " + kCorrupt);
   }
-  if (rc != 0) fail(path, where + "'s compressed stream does not decode (meshoptimizer error " + std::to_string(rc) + ")", kCorrupt);
+  if (rc != 0)
+    fail(path, where + "'s compressed stream does not decode (meshoptimizer error " + std::to_string(rc) + ")",
+         kCorrupt);
 }
 
 }  // namespace
@@ -92,17 +103,23 @@ MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>
   for (std::size_t v = 0; v < views.size(); ++v) {
     nlohmann::json& view = views[v];
     if (!view.is_object()) fail(path, "bufferView " + std::to_string(v) + " is not an object", kCorrupt);
-    if (!append && view.contains("buffer") && view["buffer"].is_number_unsigned()) view["buffer"] = view["buffer"].get<std::size_t>() + 1;
+    if (!append && view.contains("buffer") && view["buffer"].is_number_unsigned())
+      view["buffer"] = view["buffer"].get<std::size_t>() + 1;
     if (!view.contains("extensions") || !view["extensions"].contains(kName)) continue;
     const std::string where = "bufferView " + std::to_string(v) + " (" + kName + ")";
     const nlohmann::json ext = view["extensions"][kName];
     if (!ext.is_object()) fail(path, where + " is not an object", kCorrupt);
-    const std::size_t count = sizeField(ext, "count", 0, where, path), stride = sizeField(ext, "byteStride", 0, where, path);
-    const std::size_t offset = sizeField(ext, "byteOffset", 0, where, path), length = sizeField(ext, "byteLength", 0, where, path);
-    const std::vector<unsigned char>& src = sourceBuffer(doc, sizeField(ext, "buffer", 0, where, path), bin, folder, path, files);
-    if (offset > src.size() || length > src.size() - offset) fail(path, where + "'s compressed bytes lie outside its buffer", kCorrupt);
+    const std::size_t count = sizeField(ext, "count", 0, where, path),
+                      stride = sizeField(ext, "byteStride", 0, where, path);
+    const std::size_t offset = sizeField(ext, "byteOffset", 0, where, path),
+                      length = sizeField(ext, "byteLength", 0, where, path);
+    const std::vector<unsigned char>& src =
+        sourceBuffer(doc, sizeField(ext, "buffer", 0, where, path), bin, folder, path, files);
+    if (offset > src.size() || length > src.size() - offset)
+      fail(path, where + "'s compressed bytes lie outside its buffer", kCorrupt);
     if (count == 0 || stride == 0 || count > (std::size_t(1) << 31) / stride) {
-      fail(path, where + " decodes to " + std::to_string(count) + " elements of " + std::to_string(stride) + " bytes", kCorrupt);
+      fail(path, where + " decodes to " + std::to_string(count) + " elements of " + std::to_string(stride) + " bytes",
+           kCorrupt);
     }
     while (out.size() % 16) out.push_back(0);
     const std::size_t at = out.size();
@@ -122,8 +139,10 @@ MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>
     }
   }
   while (out.size() % 4) out.push_back(0);
-  if (append) buffers[0]["byteLength"] = out.size();
-  else buffers.insert(buffers.begin(), nlohmann::json{{"byteLength", std::max<std::size_t>(out.size(), 4)}});
+  if (append)
+    buffers[0]["byteLength"] = out.size();
+  else
+    buffers.insert(buffers.begin(), nlohmann::json{{"byteLength", std::max<std::size_t>(out.size(), 4)}});
   if (out.empty()) out.resize(4);
   for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
     if (!doc.contains(key) || !doc[key].is_array()) continue;

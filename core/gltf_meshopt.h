@@ -5,10 +5,9 @@
 // chunk or files in the model's folder. Every failure is an InputError naming the view.
 #pragma once
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace penumbra::gltf {
 

@@ -4,20 +4,19 @@
 // positions move by at most half a quantization step (gltfpack's default 14 bits: 1/32768 of the
 // model's extent, 0.001 units here, against 0.2 units per pixel at 128^2), so shadow edges move by
 // far less than a pixel: at most 0.2% of the covered pixels may differ.
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
-
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/scene.h>
 #include <nlohmann/json.hpp>
-#include <filesystem>
 #include <string>
 
 #include "mesh_checks.h"
@@ -80,7 +79,8 @@ TEST(OptimizedModels, GltfpackOutputRendersAsTheOriginal) {
     const std::vector<Frame> frames = render(dir.file(variant));
     for (std::size_t m = 0; m < frames.size(); ++m) {
       const double d = differing(original[m], frames[m]);
-      std::cout << "[ " << variant << " " << frames[m].stats.method << " ] " << 100.0 * d << "% of covered pixels differ\n";
+      std::cout << "[ " << variant << " " << frames[m].stats.method << " ] " << 100.0 * d
+                << "% of covered pixels differ\n";
       EXPECT_LE(d, 0.002) << variant << " " << frames[m].stats.method;
     }
   }
@@ -112,11 +112,13 @@ TEST(OptimizedModels, OtherFormatsThroughAssimp) {
   Assimp::Exporter exporter;
   for (const auto& [format, name] : {std::pair{"plyb", "courtyard.ply"}, std::pair{"stlb", "courtyard.stl"},
                                      std::pair{"collada", "courtyard.dae"}, std::pair{"fbxa", "courtyard.fbx"}}) {
-    ASSERT_EQ(exporter.Export(source, format, dir.file(name)), AI_SUCCESS) << format << ": " << exporter.GetErrorString();
+    ASSERT_EQ(exporter.Export(source, format, dir.file(name)), AI_SUCCESS)
+        << format << ": " << exporter.GetErrorString();
     const std::vector<Frame> frames = render(dir.file(name));
     for (std::size_t m = 0; m < frames.size(); ++m) {
       const double d = differing(original[m], frames[m]);
-      std::cout << "[ " << name << " " << frames[m].stats.method << " ] " << 100.0 * d << "% of covered pixels differ\n";
+      std::cout << "[ " << name << " " << frames[m].stats.method << " ] " << 100.0 * d
+                << "% of covered pixels differ\n";
       EXPECT_LE(d, 0.002) << name << " " << frames[m].stats.method;
     }
   }
@@ -148,7 +150,10 @@ struct Glb {
     std::string text = json.dump();
     while (text.size() % 4) text += ' ';
     std::ofstream out(path, std::ios::binary);
-    const auto u32 = [&](std::size_t v) { const auto w = std::uint32_t(v); out.write(reinterpret_cast<const char*>(&w), 4); };
+    const auto u32 = [&](std::size_t v) {
+      const auto w = std::uint32_t(v);
+      out.write(reinterpret_cast<const char*>(&w), 4);
+    };
     u32(0x46546C67u), u32(2), u32(28 + text.size() + bin.size()), u32(text.size()), u32(0x4E4F534Au);
     out << text;
     u32(bin.size()), u32(0x004E4942u);
@@ -170,7 +175,9 @@ TEST(OptimizedModels, CorruptMeshoptStreamsAreRefused) {
     ++compressed;
   }
   ASSERT_LT(compressed, original.json["bufferViews"].size());
-  auto ext = [](Glb& g, std::size_t v) -> nlohmann::json& { return g.json["bufferViews"][v]["extensions"]["EXT_meshopt_compression"]; };
+  auto ext = [](Glb& g, std::size_t v) -> nlohmann::json& {
+    return g.json["bufferViews"][v]["extensions"]["EXT_meshopt_compression"];
+  };
   auto expectRefused = [&](const Glb& g, const std::string& name, const std::string& needle) {
     g.write(dir.file(name));
     try {
