@@ -63,8 +63,9 @@ Scene loadAssimp(const std::string& path) {
   std::error_code ec;
   const fs::path file = fs::absolute(path, ec).lexically_normal();
   Assimp::Importer importer;
-  auto* io = new ConfinedIOSystem(file.parent_path().string());
-  importer.SetIOHandler(io);  // the importer owns it
+  auto owned = std::make_unique<ConfinedIOSystem>(file.parent_path().string());
+  ConfinedIOSystem* io = owned.get();
+  importer.SetIOHandler(owned.release());  // assimp takes ownership (and deletes it with the importer)
   const aiScene* ai =
       importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
   if (!io->refused.empty()) {
