@@ -5,8 +5,7 @@
 namespace penumbra::gpu {
 
 Buffer::Buffer(const Context& context, vk::DeviceSize size, vk::BufferUsageFlags usage, const std::string& name)
-    : context_(&context),
-      size_(std::max<vk::DeviceSize>(size, 16)),
+    : size_(std::max<vk::DeviceSize>(size, 16)),
       buffer_(context.device(), vk::BufferCreateInfo{.size = size_, .usage = usage}) {
   const auto requirements = buffer_.getMemoryRequirements();
   const vk::MemoryAllocateFlagsInfo addressable{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
@@ -19,10 +18,12 @@ Buffer::Buffer(const Context& context, vk::DeviceSize size, vk::BufferUsageFlags
   buffer_.bindMemory(*memory_, 0);
   mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
   context.name(*buffer_, name);
+  if (usage & vk::BufferUsageFlagBits::eShaderDeviceAddress) address_ = context.device().getBufferAddress({.buffer = *buffer_});
 }
 
 vk::DeviceAddress Buffer::address() const {
-  return context_->device().getBufferAddress({.buffer = *buffer_});
+  if (address_ == 0) throw std::logic_error("Buffer::address: the buffer was made without eShaderDeviceAddress usage");
+  return address_;
 }
 
 void Buffer::checkFits(std::size_t bytes) const {

@@ -19,7 +19,8 @@ class Buffer {
  public:
   Buffer(const Context& context, vk::DeviceSize size, vk::BufferUsageFlags usage, const std::string& name);
   vk::Buffer handle() const { return *buffer_; }
-  // Buffers made with eShaderDeviceAddress usage (acceleration-structure inputs and storage).
+  // Buffers made with eShaderDeviceAddress usage (acceleration-structure inputs, and what kernels
+  // read through addresses): queried once, at creation. std::logic_error for other buffers.
   vk::DeviceAddress address() const;
   vk::DeviceSize size() const { return size_; }
   void* data() const { return mapped_; }
@@ -39,11 +40,11 @@ class Buffer {
 
  private:
   void checkFits(std::size_t bytes) const;
-  const Context* context_;
   vk::DeviceSize size_;
   vk::raii::Buffer buffer_;
   vk::raii::DeviceMemory memory_{nullptr};
   void* mapped_ = nullptr;
+  vk::DeviceAddress address_ = 0;  // 0: no eShaderDeviceAddress usage
 };
 
 // A buffer's device address as the shaders take it: (low, high) 32-bit halves, for
