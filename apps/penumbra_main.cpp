@@ -103,6 +103,12 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   return 0;
 }
 
+// A run that ran out of memory the estimate did not foresee: what to lower, exit 2.
+int outOfMemory(const char* what) {
+  std::cerr << "penumbra: out of " << what << "; lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
+  return 2;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -147,15 +153,12 @@ int main(int argc, char** argv) {
     if (bench.parsed()) return bench.run();
     if (tune.parsed()) return tune.run();
     return runCommand(config, splitList(methodList), true);
-  } catch (const vk::OutOfDeviceMemoryError& e) {  // beyond what the estimate foresaw
-    std::cerr << "penumbra: out of device memory (" << e.what() << "); lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
-    return 2;
-  } catch (const vk::OutOfHostMemoryError& e) {
-    std::cerr << "penumbra: out of host memory (" << e.what() << "); lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
-    return 2;
+  } catch (const vk::OutOfDeviceMemoryError&) {  // beyond what the estimate foresaw
+    return outOfMemory("device memory");
+  } catch (const vk::OutOfHostMemoryError&) {
+    return outOfMemory("host memory");
   } catch (const std::bad_alloc&) {
-    std::cerr << "penumbra: out of memory; lower --res, --shadow-map-res or --spp, or use a smaller scene\n";
-    return 2;
+    return outOfMemory("memory");
   } catch (const std::exception& e) {
     std::cerr << "penumbra: " << e.what() << "\n";
     return 2;
