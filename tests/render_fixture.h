@@ -40,6 +40,31 @@ struct SceneRun {
   Frame render(const std::string& method) { return renderer->render(method, camera, light); }
 };
 
+// Fraction of covered pixels where two visibility buffers differ by more than 0.5; with
+// `awayFromEdges`, only pixels whose 3x3 neighbourhood in `a` is all covered and all lit or all dark.
+inline double differingPixels(const Frame& a, const Frame& b, bool awayFromEdges = false) {
+  const int w = int(a.width), h = int(a.height);
+  auto uniform = [&](int x, int y) {
+    if (x < 1 || y < 1 || x >= w - 1 || y >= h - 1) return false;
+    const bool dark = a.visibility[std::size_t(y * w + x)] < 0.5f;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::size_t j = std::size_t((y + dy) * w + x + dx);
+        if (!a.covered[j] || (a.visibility[j] < 0.5f) != dark) return false;
+      }
+    }
+    return true;
+  };
+  std::size_t covered = 0, differ = 0;
+  for (std::size_t i = 0; i < a.visibility.size(); ++i) {
+    if (!a.covered[i]) continue;
+    ++covered;
+    if (awayFromEdges && !uniform(int(i % std::size_t(w)), int(i / std::size_t(w)))) continue;
+    differ += std::abs(a.visibility[i] - b.visibility[i]) > 0.5f;
+  }
+  return covered ? double(differ) / double(covered) : 1.0;
+}
+
 inline RenderSettings smallSettings(std::uint32_t size = 256, std::uint32_t shadowMapRes = 2048) {
   RenderSettings s;
   s.width = size;

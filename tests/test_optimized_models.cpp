@@ -44,45 +44,50 @@ bool gltfpack(const std::string& options) {
   return rc == 0;
 }
 
-// Fraction of covered pixels whose visibility differs by more than 0.5.
-double differing(const Frame& a, const Frame& b) {
-  std::size_t covered = 0, differ = 0;
-  for (std::size_t i = 0; i < a.visibility.size(); ++i) {
-    if (!a.covered[i]) continue;
-    ++covered;
-    differ += std::abs(a.visibility[i] - b.visibility[i]) > 0.5f;
+const Scene& loadCourtyard() {
+  static const Scene courtyard = loadScene("builtin:courtyard");
+  return courtyard;
+}
+
+// The courtyard as an OBJ in `dir`, the original every variant is compared with; its path.
+std::string courtyardObj(const Folder& dir) {
+  writeObj(loadCourtyard().meshes, dir.file("courtyard.obj"));
+  return dir.file("courtyard.obj");
+}
+
+// sm, srt and frt of the model at `path`, in the courtyard's view at 128^2.
+std::vector<Frame> renderCourtyardView(const std::string& path) {
+  const Scene& courtyard = loadCourtyard();
+  const Scene scene = loadScene(path);
+  Renderer renderer(validatedContext(), scene, smallSettings(128, 1024));
+  std::vector<Frame> frames;
+  for (const char* method : {"sm", "srt", "frt"}) {
+    frames.push_back(renderer.render(method, *courtyard.camera, courtyard.lights.front()));
   }
-  return covered ? double(differ) / double(covered) : 1.0;
+  return frames;
+}
+
+// Each of `frames` differs from the original's on at most 0.2% of the covered pixels (printed).
+void expectLikeOriginal(const std::vector<Frame>& original, const std::vector<Frame>& frames, const std::string& name) {
+  for (std::size_t m = 0; m < frames.size(); ++m) {
+    const double d = differingPixels(original[m], frames[m]);
+    std::cout << "[ " << name << " " << frames[m].stats.method << " ] " << 100.0 * d << "% of covered pixels differ\n";
+    EXPECT_LE(d, 0.002) << name << " " << frames[m].stats.method;
+  }
 }
 
 TEST(OptimizedModels, GltfpackOutputRendersAsTheOriginal) {
   Folder dir;
-  const Scene courtyard = loadScene("builtin:courtyard");
-  writeObj(courtyard.meshes, dir.file("courtyard.obj"));
-  ASSERT_TRUE(gltfpack("-i " + dir.file("courtyard.obj") + " -o " + dir.file("quantized.glb")));
-  ASSERT_TRUE(gltfpack("-i " + dir.file("courtyard.obj") + " -o " + dir.file("float.glb") + " -noq"));
-  ASSERT_TRUE(gltfpack("-i " + dir.file("courtyard.obj") + " -o " + dir.file("meshopt.glb") + " -c"));
-  ASSERT_TRUE(gltfpack("-i " + dir.file("courtyard.obj") + " -o " + dir.file("meshopt-cc.glb") + " -cc"));
+  const std::string obj = courtyardObj(dir);
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("quantized.glb")));
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("float.glb") + " -noq"));
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("meshopt.glb") + " -c"));
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("meshopt-cc.glb") + " -cc"));
 
-  const Camera camera = *courtyard.camera;
-  const Light light = courtyard.lights.front();
-  auto render = [&](const std::string& path) {
-    const Scene scene = loadScene(path);
-    EXPECT_EQ(scene.origin, glm::dvec3(0.0)) << path;
-    Renderer renderer(validatedContext(), scene, smallSettings(128, 1024));
-    std::vector<Frame> frames;
-    for (const char* method : {"sm", "srt", "frt"}) frames.push_back(renderer.render(method, camera, light));
-    return frames;
-  };
-  const std::vector<Frame> original = render(dir.file("courtyard.obj"));
+  const std::vector<Frame> original = renderCourtyardView(obj);
   for (const char* variant : {"quantized.glb", "float.glb", "meshopt.glb", "meshopt-cc.glb"}) {
-    const std::vector<Frame> frames = render(dir.file(variant));
-    for (std::size_t m = 0; m < frames.size(); ++m) {
-      const double d = differing(original[m], frames[m]);
-      std::cout << "[ " << variant << " " << frames[m].stats.method << " ] " << 100.0 * d
-                << "% of covered pixels differ\n";
-      EXPECT_LE(d, 0.002) << variant << " " << frames[m].stats.method;
-    }
+    EXPECT_EQ(loadScene(dir.file(variant)).origin, glm::dvec3(0.0)) << variant;
+    expectLikeOriginal(original, renderCourtyardView(dir.file(variant)), variant);
   }
   expectValidationSilent();
 }
@@ -94,33 +99,17 @@ TEST(OptimizedModels, GltfpackOutputRendersAsTheOriginal) {
 // as for quantization.
 TEST(OptimizedModels, OtherFormatsThroughAssimp) {
   Folder dir;
-  const Scene courtyard = loadScene("builtin:courtyard");
-  writeObj(courtyard.meshes, dir.file("courtyard.obj"));
+  const std::string obj = courtyardObj(dir);
   Assimp::Importer importer;
-  const aiScene* source = importer.ReadFile(dir.file("courtyard.obj"), 0);
+  const aiScene* source = importer.ReadFile(obj, 0);
   ASSERT_NE(source, nullptr) << importer.GetErrorString();
-  const Camera camera = *courtyard.camera;
-  const Light light = courtyard.lights.front();
-  auto render = [&](const std::string& path) {
-    const Scene scene = loadScene(path);
-    Renderer renderer(validatedContext(), scene, smallSettings(128, 1024));
-    std::vector<Frame> frames;
-    for (const char* method : {"sm", "srt", "frt"}) frames.push_back(renderer.render(method, camera, light));
-    return frames;
-  };
-  const std::vector<Frame> original = render(dir.file("courtyard.obj"));
+  const std::vector<Frame> original = renderCourtyardView(obj);
   Assimp::Exporter exporter;
   for (const auto& [format, name] : {std::pair{"plyb", "courtyard.ply"}, std::pair{"stlb", "courtyard.stl"},
                                      std::pair{"collada", "courtyard.dae"}, std::pair{"fbxa", "courtyard.fbx"}}) {
     ASSERT_EQ(exporter.Export(source, format, dir.file(name)), AI_SUCCESS)
         << format << ": " << exporter.GetErrorString();
-    const std::vector<Frame> frames = render(dir.file(name));
-    for (std::size_t m = 0; m < frames.size(); ++m) {
-      const double d = differing(original[m], frames[m]);
-      std::cout << "[ " << name << " " << frames[m].stats.method << " ] " << 100.0 * d
-                << "% of covered pixels differ\n";
-      EXPECT_LE(d, 0.002) << name << " " << frames[m].stats.method;
-    }
+    expectLikeOriginal(original, renderCourtyardView(dir.file(name)), name);
   }
   // A file cut short is refused by name, not loaded as a part of itself.
   std::filesystem::resize_file(dir.file("courtyard.ply"), 600);
@@ -165,9 +154,8 @@ struct Glb {
 // buffer each get a clear error naming the view, never a crash or a silent wrong mesh.
 TEST(OptimizedModels, CorruptMeshoptStreamsAreRefused) {
   Folder dir;
-  const Scene courtyard = loadScene("builtin:courtyard");
-  writeObj(courtyard.meshes, dir.file("courtyard.obj"));
-  ASSERT_TRUE(gltfpack("-i " + dir.file("courtyard.obj") + " -o " + dir.file("meshopt.glb") + " -c"));
+  const std::string obj = courtyardObj(dir);
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("meshopt.glb") + " -c"));
   const Glb original(dir.file("meshopt.glb"));
   std::size_t compressed = 0;
   while (compressed < original.json["bufferViews"].size() &&

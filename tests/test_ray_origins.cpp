@@ -22,31 +22,6 @@
 namespace penumbra::test {
 namespace {
 
-// Fraction of covered pixels where two visibility buffers differ by more than 0.5; with
-// `awayFromEdges`, only pixels whose 3x3 neighbourhood in `a` is all covered and all lit or all dark.
-double differing(const Frame& a, const Frame& b, bool awayFromEdges = false) {
-  const int w = int(a.width), h = int(a.height);
-  auto uniform = [&](int x, int y) {
-    if (x < 1 || y < 1 || x >= w - 1 || y >= h - 1) return false;
-    const bool dark = a.visibility[std::size_t(y * w + x)] < 0.5f;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const std::size_t j = std::size_t((y + dy) * w + x + dx);
-        if (!a.covered[j] || (a.visibility[j] < 0.5f) != dark) return false;
-      }
-    }
-    return true;
-  };
-  std::size_t covered = 0, differ = 0;
-  for (std::size_t i = 0; i < a.visibility.size(); ++i) {
-    if (!a.covered[i]) continue;
-    ++covered;
-    if (awayFromEdges && !uniform(int(i % std::size_t(w)), int(i / std::size_t(w)))) continue;
-    differ += std::abs(a.visibility[i] - b.visibility[i]) > 0.5f;
-  }
-  return covered ? double(differ) / double(covered) : 1.0;
-}
-
 // A 20x20 floor with a 4x4 decal `gap` above it, seen from inside the scene's bounds (a 30-unit
 // mast behind the camera widens them), so the camera's near plane is 1e-4 of its far plane - where
 // a conventional 32-bit depth cannot tell the two layers apart at this distance.
@@ -77,7 +52,7 @@ TEST(RayOrigins, CameraSeesTheDecalAHairAboveItsSurface) {
   EXPECT_EQ(decalSeen, inside) << "the floor shows through the decal";
   EXPECT_EQ(lit, inside) << "the decal's footprint is shadowed (the decal shadows the floor seen through it)";
   for (const char* method : {"sm", "srt", "frt"}) {
-    EXPECT_EQ(differing(renderer.render(method, camera, light), ref), 0.0) << method;
+    EXPECT_EQ(differingPixels(renderer.render(method, camera, light), ref), 0.0) << method;
   }
   expectValidationSilent();
 }
@@ -103,8 +78,8 @@ TEST(RayOrigins, FarFromTheOriginNothingShadowsItself) {
   };
   const Frame near = render({0, 0, 0}, "ref");
   const Frame far = render({1e5f, 0, 1e5f}, "ref");
-  EXPECT_LE(differing(near, far, true), 0.001) << "the reference far from the origin shadows itself";
-  EXPECT_EQ(differing(render({1e5f, 0, 1e5f}, "frt"), far), 0.0);
+  EXPECT_LE(differingPixels(near, far, true), 0.001) << "the reference far from the origin shadows itself";
+  EXPECT_EQ(differingPixels(render({1e5f, 0, 1e5f}, "frt"), far), 0.0);
   expectValidationSilent();
 }
 
@@ -146,9 +121,9 @@ TEST(RayOrigins, GeoreferencedModelRendersAsAtTheOrigin) {
     const auto [origin, far] = renderAt(offset);
     EXPECT_GT(glm::length(origin), 0.9 * offset) << "the model is stored relative to a far origin";
     for (std::size_t m = 0; m < far.size(); ++m) {
-      EXPECT_LE(differing(near[m], far[m]), 0.001) << kMethods[m] << " at " << offset;
+      EXPECT_LE(differingPixels(near[m], far[m]), 0.001) << kMethods[m] << " at " << offset;
     }
-    EXPECT_EQ(differing(far[0], far[2]), 0.0) << "srt against the reference at " << offset;
+    EXPECT_EQ(differingPixels(far[0], far[2]), 0.0) << "srt against the reference at " << offset;
   }
   expectValidationSilent();
 }
