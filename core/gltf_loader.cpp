@@ -468,8 +468,7 @@ Scene loadGltf(const std::string& path) {
   const bool meshopt = used.is_array() && std::find(used.begin(), used.end(), "EXT_meshopt_compression") != used.end();
   if (meshopt) {
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<unsigned char> bin(bytes.begin() + std::ptrdiff_t(chunks.binOffset),
-                                         bytes.begin() + std::ptrdiff_t(chunks.binOffset + chunks.binSize));
+    const std::span<const unsigned char> bin(bytes.data() + chunks.binOffset, chunks.binSize);
     gltf::MeshoptResult result = gltf::decodeMeshopt(doc, bin, ctx.folder, path);
     decoded = std::move(result.glb);
     notes.push_back("EXT_meshopt_compression: " + std::to_string(result.views) + " bufferViews decoded (" +

@@ -29,10 +29,10 @@ void putU32(std::vector<unsigned char>& out, std::uint32_t v) {
 }
 
 // The bytes of buffer `index`: the GLB's BIN chunk, or a file in the model's folder.
-const std::vector<unsigned char>& sourceBuffer(const nlohmann::json& doc, std::size_t index,
-                                               const std::vector<unsigned char>& bin, const std::string& folder,
-                                               const std::string& path,
-                                               std::map<std::size_t, std::vector<unsigned char>>& files) {
+std::span<const unsigned char> sourceBuffer(const nlohmann::json& doc, std::size_t index,
+                                            std::span<const unsigned char> bin, const std::string& folder,
+                                            const std::string& path,
+                                            std::map<std::size_t, std::vector<unsigned char>>& files) {
   const std::string where = std::string(kName) + " source buffer " + std::to_string(index);
   if (!doc.contains("buffers") || !doc["buffers"].is_array() || index >= doc["buffers"].size()) {
     fail(path, where + " does not exist", kCorrupt);
@@ -89,7 +89,7 @@ void decodeView(const nlohmann::json& ext, const unsigned char* src, std::size_t
 
 }  // namespace
 
-MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>& bin, const std::string& folder,
+MeshoptResult decodeMeshopt(nlohmann::json doc, std::span<const unsigned char> bin, const std::string& folder,
                             const std::string& path) {
   MeshoptResult result;
   std::map<std::size_t, std::vector<unsigned char>> files;
@@ -97,7 +97,8 @@ MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>
   // the decoded bytes and every buffer reference moves up by one.
   const bool append = !bin.empty() && doc.contains("buffers") && doc["buffers"].is_array() && !doc["buffers"].empty() &&
                       doc["buffers"][0].is_object() && !doc["buffers"][0].contains("uri");
-  std::vector<unsigned char> out = append ? bin : std::vector<unsigned char>();
+  std::vector<unsigned char> out =
+      append ? std::vector<unsigned char>(bin.begin(), bin.end()) : std::vector<unsigned char>();
   nlohmann::json& views = doc["bufferViews"];
   if (!views.is_array()) fail(path, "bufferViews is not an array", kCorrupt);
   for (std::size_t v = 0; v < views.size(); ++v) {
@@ -113,7 +114,7 @@ MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>
                       stride = sizeField(ext, "byteStride", 0, where, path);
     const std::size_t offset = sizeField(ext, "byteOffset", 0, where, path),
                       length = sizeField(ext, "byteLength", 0, where, path);
-    const std::vector<unsigned char>& src =
+    const std::span<const unsigned char> src =
         sourceBuffer(doc, sizeField(ext, "buffer", 0, where, path), bin, folder, path, files);
     if (offset > src.size() || length > src.size() - offset)
       fail(path, where + "'s compressed bytes lie outside its buffer", kCorrupt);

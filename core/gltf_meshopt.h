@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,7 @@ struct MeshoptResult {
 };
 
 // doc: the parsed JSON; bin: the GLB's BIN chunk (empty for a .gltf); folder: the model's folder.
-MeshoptResult decodeMeshopt(nlohmann::json doc, const std::vector<unsigned char>& bin, const std::string& folder,
+MeshoptResult decodeMeshopt(nlohmann::json doc, std::span<const unsigned char> bin, const std::string& folder,
                             const std::string& path);
 
 }  // namespace penumbra::gltf
