@@ -260,6 +260,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
 nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Context& context) {
   return {{"scene", c.scene},
           {"triangles", s.scene.triangleCount()},
+          {"load_ms", s.scene.loadMs},
           {"resolution", {s.settings.width, s.settings.height}},
           {"camera", formatCamera(s.camera, s.scene.origin)},
           {"light", formatLight(s.light, s.scene.origin)},

@@ -22,7 +22,9 @@
 
 #include "core/gltf_accessor.h"
 #include "core/gltf_animation.h"
+#include "core/gltf_draco.h"
 #include "core/gltf_meshopt.h"
+#include "core/gltf_rewrite.h"
 #include "core/scene_loader.h"
 
 namespace penumbra {
@@ -143,15 +145,23 @@ bool skipImageDecode(tinygltf::Image*, const int, std::string*, std::string*, in
 // textures only change appearance, which Penumbra does not render, so they may be ignored even
 // where a file requires them.
 bool readsExtension(const std::string& name) {
-  return name == "KHR_mesh_quantization" || name == "KHR_lights_punctual" || name == "EXT_meshopt_compression";
+  return name == "KHR_mesh_quantization" || name == "KHR_lights_punctual" || name == "EXT_meshopt_compression" ||
+         name == "KHR_draco_mesh_compression";
 }
 bool appearanceOnly(const std::string& name) {
   return name.rfind("KHR_materials_", 0) == 0 || name.rfind("KHR_texture_", 0) == 0 || name.rfind("EXT_texture_", 0) == 0;
 }
 
-std::string withoutExtension(const std::string& name) {
-  if (name == "KHR_draco_mesh_compression") return "export it without Draco compression";
-  return "export it without that extension";
+// The compression extensions the document uses, in decoding order: meshopt first, since a Draco
+// stream could lie in a meshopt-compressed view.
+std::vector<std::string> compressionUsed(const nlohmann::json& doc) {
+  std::vector<std::string> out;
+  const auto used = doc.find("extensionsUsed");
+  for (const char* name : {"EXT_meshopt_compression", "KHR_draco_mesh_compression"}) {
+    if (used != doc.end() && used->is_array() && std::find(used->begin(), used->end(), name) != used->end())
+      out.push_back(name);
+  }
+  return out;
 }
 
 nlohmann::json parseDocument(const std::string& jsonText, const std::string& path) {
@@ -182,7 +192,7 @@ std::vector<std::string> checkDocument(const nlohmann::json& doc, const std::str
   const std::vector<std::string> required = names("extensionsRequired");
   for (const std::string& name : required) {
     if (!readsExtension(name) && !appearanceOnly(name)) {
-      fail(path, "requires the extension " + name + ", which Penumbra does not read", withoutExtension(name));
+      fail(path, "requires the extension " + name + ", which Penumbra does not read", "export it without that extension");
     }
   }
   std::vector<std::string> notes;
@@ -462,21 +472,23 @@ Scene loadGltf(const std::string& path) {
   const GlbChunks chunks = binary ? validateGlb(bytes, path) : GlbChunks{std::string(bytes.begin(), bytes.end())};
   const nlohmann::json doc = parseDocument(chunks.json, path);
   std::vector<std::string> notes = checkDocument(doc, path, ctx.folder);
-  // Meshopt-compressed views are decoded first, into a GLB tinygltf reads as a plain one.
+  // Compressed views and primitives are decoded first, into a GLB tinygltf reads as a plain one.
   std::vector<unsigned char> decoded;
-  const nlohmann::json used = doc.value("extensionsUsed", nlohmann::json::array());
-  const bool meshopt = used.is_array() && std::find(used.begin(), used.end(), "EXT_meshopt_compression") != used.end();
-  if (meshopt) {
+  const std::vector<std::string> compression = compressionUsed(doc);
+  if (!compression.empty()) {
     const auto start = std::chrono::steady_clock::now();
-    const std::span<const unsigned char> bin(bytes.data() + chunks.binOffset, chunks.binSize);
-    gltf::MeshoptResult result = gltf::decodeMeshopt(doc, bin, ctx.folder, path);
-    decoded = std::move(result.glb);
-    notes.push_back("EXT_meshopt_compression: " + std::to_string(result.views) + " bufferViews decoded (" +
-                    std::to_string(result.decodedBytes >> 10) + " KiB) in " +
-                    std::to_string(int(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count())) +
-                    " ms");
+    gltf::GlbRewrite rewrite(doc, std::span(bytes.data() + chunks.binOffset, chunks.binSize), ctx.folder, path);
+    for (const std::string& name : compression) {
+      const bool meshopt = name == "EXT_meshopt_compression";
+      const gltf::DecodeStats stats = meshopt ? gltf::decodeMeshopt(rewrite) : gltf::decodeDraco(rewrite);
+      notes.push_back(name + ": " + std::to_string(stats.items) + (meshopt ? " bufferViews" : " primitives") +
+                      " decoded (" + std::to_string(stats.decodedBytes >> 10) + " KiB)");
+    }
+    decoded = rewrite.finish(compression);
+    notes.back() += " in " + std::to_string(int(std::chrono::duration<double, std::milli>(
+                                                    std::chrono::steady_clock::now() - start).count())) + " ms";
   }
-  const std::vector<unsigned char>& input = meshopt ? decoded : bytes;
+  const std::vector<unsigned char>& input = compression.empty() ? bytes : decoded;
   if (input.size() > std::numeric_limits<unsigned int>::max()) fail(path, "decodes to more than 4 GiB", "split the model");
 
   tinygltf::TinyGLTF loader;
@@ -484,7 +496,7 @@ Scene loadGltf(const std::string& path) {
   loader.SetImageLoader(&skipImageDecode, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  const bool ok = binary || meshopt
+  const bool ok = binary || !compression.empty()
                      ? loader.LoadBinaryFromMemory(&model, &err, &warn, input.data(), unsigned(input.size()), ctx.folder)
                      : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(input.data()),
                                                   unsigned(input.size()), ctx.folder);

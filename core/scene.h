@@ -98,6 +98,7 @@ struct Scene {
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
   std::vector<Light> lights;     // the first one is used
   std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats
+  double loadMs = 0.0;                 // reading, decoding and cleaning the model (loadScene), reported in stats
   std::vector<MeshAnimation> animations;  // dynamic meshes and how they move
 
   // Every pose the scene takes: static meshes, and each animated mesh swept over its keys (so

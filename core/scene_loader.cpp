@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 
 #include "core/builtin_scenes.h"
@@ -47,6 +48,7 @@ std::string supportedForms() {
 
 Scene loadScene(const std::string& spec) {
   static const std::string kBuiltin = "builtin:";
+  const auto start = std::chrono::steady_clock::now();
   Scene scene;
   if (spec.rfind(kBuiltin, 0) == 0) {
     const std::string nameAndLevel = spec.substr(kBuiltin.size());
@@ -80,6 +82,7 @@ Scene loadScene(const std::string& spec) {
     scene.name = path.stem().string();
   }
   cleanScene(scene, spec);
+  scene.loadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return scene;
 }
 

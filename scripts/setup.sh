@@ -9,6 +9,7 @@ packages=(
   libvulkan-dev vulkan-validationlayers vulkan-tools glslang-tools
   libglm-dev libembree-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libtinyexr-dev
   gltfpack libmeshoptimizer-dev  # glTF as gltfpack writes it (EXT_meshopt_compression); its tests run gltfpack
+  libdraco-dev draco  # KHR_draco_mesh_compression; its tests write Draco files with draco_transcoder
   libassimp-dev  # the other model formats (.ply, .stl, .dae, .fbx, ...)
   nlohmann-json3-dev libcli11-dev libgtest-dev
   python3-matplotlib chromium  # report.html charts (bench/report/report.py); the report test renders the page
