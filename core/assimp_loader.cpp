@@ -25,26 +25,33 @@ namespace {
 }
 
 // Opens files for assimp only inside the model's folder (the model itself included), read-only.
+// Names an importer takes from inside the file (an Ogre mesh's skeleton, ...) are relative to the
+// model's folder, as in glTF, not to the working directory.
 class ConfinedIOSystem : public Assimp::DefaultIOSystem {
  public:
   explicit ConfinedIOSystem(std::string folder) : folder_(std::move(folder)) {}
-  bool Exists(const char* file) const override { return allowed(file) && DefaultIOSystem::Exists(file); }
+  bool Exists(const char* file) const override {
+    if (!file || !allowed(file)) {
+      refused.emplace_back(file ? file : "");
+      return false;
+    }
+    return DefaultIOSystem::Exists(resolve(file).c_str());
+  }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     const std::string m = mode ? mode : "";
-    if (!allowed(file) || m.find_first_of("wa+") != std::string::npos) {
+    if (!file || !allowed(file) || m.find_first_of("wa+") != std::string::npos) {
       refused.emplace_back(file ? file : "");
       return nullptr;
     }
-    return DefaultIOSystem::Open(file, mode);
+    return DefaultIOSystem::Open(resolve(file).c_str(), mode);
   }
-  std::vector<std::string> refused;
+  mutable std::vector<std::string> refused;  // asked for, in Exists or Open
 
  private:
+  std::string resolve(const char* file) const { return (folder_ / fs::path(file)).lexically_normal().string(); }
   bool allowed(const char* file) const {
-    if (!file) return false;
-    std::error_code ec;
-    const fs::path relative = fs::absolute(file, ec).lexically_normal().lexically_relative(folder_);
-    return !ec && !relative.empty() && confinedPathProblem(folder_.string(), relative.string()).empty();
+    const fs::path relative = fs::path(resolve(file)).lexically_relative(folder_);
+    return !relative.empty() && confinedPathProblem(folder_.string(), relative.string()).empty();
   }
   fs::path folder_;
 };

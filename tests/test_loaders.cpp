@@ -1,5 +1,6 @@
 // Scene loader tests for bad input and the other loaders: malformed and truncated files, lying
-// lengths, references outside the model's folder, cycles; OBJ; the scene-spec dispatch. Every
+// lengths, references outside the model's folder, cycles; OBJ; assimp's confinement; the
+// scene-spec dispatch. Every
 // model is written by the test into a fresh temporary folder (gltf_writer.h). What valid glTF
 // files hold: test_gltf_content.cpp.
 #include <gtest/gtest.h>
@@ -246,6 +247,35 @@ TEST(ObjLoader, BadIndicesRefused) {
   expectInputError([&] { penumbra::loadScene(dir.file("zero.obj")); }, {"zero.obj", "zero value"});
   writeFile(dir.file("vn.obj"), std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//5\n"));
   expectInputError([&] { penumbra::loadScene(dir.file("vn.obj")); }, {"vn.obj"});
+}
+
+// Assimp importers open the files a model names (an Ogre mesh its skeleton, by a name taken from
+// inside the file) through the loader's file system: a name beside the model is read relative to
+// the model's folder whatever the working directory (a corrupt skeleton there is reported); names
+// that climb out or are absolute elsewhere are refused by name before assimp reads them.
+TEST(AssimpLoader, NamedFilesConfinedToTheModelsFolder) {
+  TempDir dir;
+  const auto mesh = [&](const std::string& skeleton) {
+    writeFile(dir.file("model/model.mesh.xml"),
+              "<mesh><sharedgeometry vertexcount=\"3\"><vertexbuffer positions=\"true\">"
+              "<vertex><position x=\"0\" y=\"0\" z=\"0\"/></vertex><vertex><position x=\"1\" y=\"0\" z=\"0\"/></vertex>"
+              "<vertex><position x=\"0\" y=\"1\" z=\"0\"/></vertex></vertexbuffer></sharedgeometry><submeshes>"
+              "<submesh material=\"m\" usesharedvertices=\"true\" operationtype=\"triangle_list\">"
+              "<faces count=\"1\"><face v1=\"0\" v2=\"1\" v3=\"2\"/></faces></submesh></submeshes>"
+              "<skeletonlink name=\"" + skeleton + "\"/></mesh>");
+    return dir.file("model/model.mesh.xml");
+  };
+  writeFile(dir.file("model/bones.skeleton"), std::string("not a skeleton"));  // read: a clear error
+  writeFile(dir.file("outside.skeleton"), std::string("not a skeleton"));
+  const fs::path cwd = fs::current_path();
+  fs::current_path(fs::temp_directory_path());
+  expectInputError([&] { penumbra::loadScene(mesh("bones.skeleton")); }, {"model.mesh.xml", "Skeleton file header"});
+  EXPECT_EQ(penumbra::loadScene(mesh("missing.skeleton")).triangleCount(), 1u);  // assimp goes on without it
+  expectInputError([&] { penumbra::loadScene(mesh("../outside.skeleton")); },
+                   {"model.mesh.xml", "refuses to read '../outside.skeleton", "outside the model's folder"});
+  expectInputError([&] { penumbra::loadScene(mesh(dir.file("outside.skeleton"))); },
+                   {"model.mesh.xml", "refuses to read '" + dir.file("outside.skeleton"), "outside the model's folder"});
+  fs::current_path(cwd);
 }
 
 TEST(SceneLoader, MissingFileAndUnknownExtension) {
