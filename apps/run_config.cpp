@@ -79,6 +79,8 @@ MemoryEstimate estimateBytes(const RenderSettings& s, std::uint64_t triangles, b
   // G-buffer images (with depth) and readbacks; visibility, colour, sm visibility, trace flags,
   // ray max, and the compacted ShadingPoints
   e.perPixel = pixels * (16 + 16 + 4 + 4 + 4) * 2 + pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));
+  // the denoiser, once per denoised method: blocker distances, accumulated values, two histories
+  if (s.denoise.mode != DenoiseMode::Off) e.perPixel += pixels * (4 + 8 + 2 * 16) * 2;
   // raster vertices and indices, the GPU BVH (48-byte triangles, ~64 bytes of nodes per triangle)
   e.geometry = triangles * (3 * 4 + 3 * 36 + 48 + 64);
   // The line space refuses itself before allocating when its pools exceed its budget, so an
@@ -155,6 +157,13 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
   app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
       ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--denoise", c.denoise,
+                 "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
+      ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
+  app.add_option("--denoise-frames", c.denoiseFrames,
+                 "--denoise temporal: each method renders a sequence from a cut and reports this frame of it (and later "
+                 "ones with --repeat)")
+      ->capture_default_str()->check(CLI::Range(1u, 1000u));
   app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--warmup", c.warmup, "Frames rendered and discarded before the measured one (shader JIT, caches)")
@@ -245,6 +254,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
+  s.settings.denoise.mode = parseDenoiseMode(c.denoise);
   s.settings.fitLightToView = c.lightFit == "view";
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
@@ -273,6 +283,8 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"msm_maps", s.settings.msmMaps},
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
+          {"denoise", c.denoise},
+          {"denoise_frames", c.denoiseFrames},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
                    {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}, {"light_fit", c.lightFit}}},
           {"warnings", s.scene.warnings},

@@ -45,6 +45,8 @@ struct RunConfig {
   std::string lightFit = "scene";
   bool validate = false;
   bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
+  std::string denoise = "off";     // srt/frt with an area light: off, spatial, temporal (hybrid/denoise_pass.h)
+  std::uint32_t denoiseFrames = 8;  // temporal: the frame of the sequence (after a cut) that is measured
   std::string outDir = "out";
 };
 

@@ -41,6 +41,8 @@ const std::vector<AxisDef>& sweepAxes() {
       {"--spp", "--spp", "spp", {"srt", "frt", "ls", "bitmask"}, true, false,
        "Light samples per pixel with area lights, e.g. 4,16 (srt, frt, ls, bitmask)"},
       {"--tracer", "--tracer", "", {"srt", "frt"}, false, false, "Ray tracers of srt and frt, e.g. bvh,rq,embree"},
+      {"--denoise", "--denoise", "denoise", {"srt", "frt"}, true, false,
+       "Shadow denoiser of srt and frt with area lights, e.g. off,temporal"},
       {"--linespace-n", "--linespace-n", "N", {"srt", "frt", "ls"}, false, true,
        "Line-space subdivision N per level (with the line-space tracer), e.g. 4,6,8"},
       {"--linespace-depth", "--linespace-depth", "d", {"srt", "frt", "ls"}, false, true,
@@ -355,6 +357,7 @@ SweepResult runSweep(const Sweep& sweep) {
       std::unique_ptr<Renderer> renderer;
       std::vector<Frame> runs;
       std::optional<double> temporalChange;  // with sweep.temporalFrames
+      std::uint32_t frame = 0;  // --denoise temporal: the next frame of its sequence (new light samples each)
     };
     std::vector<Job> jobs;
     jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
@@ -367,15 +370,26 @@ SweepResult runSweep(const Sweep& sweep) {
       setup.scene = Scene{};
       jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}, {}});
     }
+    // A temporally denoised method renders a sequence (as `compare` does): warm-up frames are its
+    // first ones, so that the measured frames are --denoise-frames and later.
+    auto render = [&](Job& job, const Light& light) {
+      const RunSetup& s = job.config ? job.setup : refSetup;
+      const bool sequence = s.settings.denoise.mode == DenoiseMode::Temporal;
+      job.renderer->setFrame(sequence ? job.frame++ : 0u);
+      return job.renderer->render(job.method, s.camera, light);
+    };
     auto start = [&](Job& job) {
       progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : "ref"));
       const RunSetup& s = job.config ? job.setup : refSetup;
       job.renderer = std::make_unique<Renderer>(context, refSetup.scene, s.settings);
-      for (std::uint32_t i = 0; i < job.runConfig.warmup; ++i) job.renderer->render(job.method, s.camera, s.light);
+      const std::uint32_t warmup = s.settings.denoise.mode == DenoiseMode::Temporal
+                                       ? std::max(job.runConfig.warmup, job.runConfig.denoiseFrames - 1)
+                                       : job.runConfig.warmup;
+      for (std::uint32_t i = 0; i < warmup; ++i) render(job, s.light);
     };
     auto measure = [&](Job& job) {
       const RunSetup& s = job.config ? job.setup : refSetup;
-      job.runs.push_back(job.renderer->render(job.method, s.camera, s.light));
+      job.runs.push_back(render(job, s.light));
     };
     // The mean change between consecutive frames under the slowly circling light (untimed frames).
     auto temporal = [&](Job& job) {
@@ -386,7 +400,7 @@ SweepResult runSweep(const Sweep& sweep) {
       double sum = 0.0;
       for (std::uint32_t i = 0; i < sweep.temporalFrames; ++i) {
         const Light light = orbitLight(s.light, bounds, sweep.temporalStepDeg * float(i));
-        Frame frame = job.renderer->render(job.method, s.camera, light);
+        Frame frame = render(job, light);
         if (previous) sum += temporalChange(previous->visibility, frame.visibility, previous->covered, frame.covered);
         previous = std::move(frame);
       }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 
 #include "core/gpu_light.h"
 #include "hybrid/method.h"
@@ -50,7 +51,11 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
               vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
       why_(context, settings.pip.explain ? pixels(settings) * sizeof(std::uint32_t) : sizeof(std::uint32_t),
            vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "pip why"),
-      timer_(context) {}
+      blockers_(context, settings.denoise.mode != DenoiseMode::Off ? pixels(settings) * sizeof(float) : sizeof(float),
+                vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress, "blocker distances"),
+      timer_(context) {
+  std::memset(blockers_.data(), 0, blockers_.size());  // 0: no blocker known (a CPU tracer never writes them)
+}
 
 Renderer::~Renderer() = default;
 
@@ -212,6 +217,7 @@ void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint3
   cameraPosition_ = camera.eye;
   frameData_ = {};
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
+  frameData_.light.sampleFrame = frame_;
   frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
@@ -219,6 +225,8 @@ void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint3
   frameData_.spp = shared::lightSampleCount(frameData_.light, spp);
   frameData_.shadowFilter = filter;
   compact_.describeList(frameData_);
+  if (settings_.denoise.mode != DenoiseMode::Off && shared::isAreaLight(frameData_.light))
+    frameData_.blockers = gpu::addressHalves(blockers_);
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
 }
 

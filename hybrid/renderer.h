@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "gpu/timer.h"
 #include "hybrid/compact_pass.h"
+#include "hybrid/denoise_pass.h"
 #include "hybrid/frame_stats.h"
 #include "hybrid/shade_pass.h"
 #include "raster/corner_maps_pass.h"
@@ -51,6 +52,7 @@ struct RenderSettings {
   // finer texels halve PIP but let srt miss more along grazing edges, bench/results/passes.md).
   bool fitLightToView = false;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
+  DenoiseSettings denoise;           // srt/frt with an area light: the shadow denoiser (hybrid/denoise_pass.h)
 };
 
 // One rendered frame, read back to the host.
@@ -74,6 +76,11 @@ class Renderer {
   // vertices, refits the built tracers' dynamic BVHs (rebuilding when the SAH grew too much) and
   // drops the Embree reference (rebuilt on next use). Frames report the refit in stats.refit.
   void sceneMoved();
+  // The frame of a sequence the next renders belong to (0 until set): rotates every pixel's light
+  // samples (shared::lightSampleOffset), the same for every method and the reference, so that
+  // frames of a sequence see new samples and a temporal denoiser gathers them.
+  void setFrame(std::uint32_t frame) { frame_ = frame; }
+  std::uint32_t frameIndex() const { return frame_; }
 
   // For methods, valid during render():
   const gpu::Context& context() const { return context_; }
@@ -84,6 +91,9 @@ class Renderer {
   const gpu::Buffer& frameBuffer() const { return frameBuffer_; }
   const gpu::Buffer& visibility() const { return visibility_; }
   gpu::Buffer& visibility() { return visibility_; }
+  const gpu::Buffer& traceFlags() const { return traceFlags_; }  // srt: nonzero where the pixel was traced
+  // Mean blocker distance per traced pixel, written by the GPU tracers when settings().denoise is on.
+  const gpu::Buffer& blockers() const { return blockers_; }
   gpu::GpuTimer& timer() { return timer_; }
   const raster::SceneGeometry& geometry() const { return geometry_; }
   const raster::GBufferPass& gbuffer() const { return gbuffer_; }
@@ -149,11 +159,12 @@ class Renderer {
   std::unique_ptr<RayQueryTracer> rayQuery_;
   std::unique_ptr<LineSpaceTracer> lineSpace_;
   gpu::Buffer frameBuffer_, visibility_, color_;
-  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_;
+  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};
   ViewMatrices view_;
   glm::vec3 cameraPosition_{0.0f};
+  std::uint32_t frame_ = 0;
   std::optional<FrameStats::Refit> refit_;  // the last sceneMoved()'s, for the frames after it
 };
 

@@ -6,6 +6,7 @@
 //        G-buffer (no compaction: frt at its best); Embree, and --simulate-bandwidth, compact them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
 #include <chrono>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -87,10 +88,28 @@ class TracedMethod final : public Method {
     stats.nodeVisits = report.nodeVisits;
     stats.triangleTests = report.triangleTests;
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, job, selective_, stats);
+    if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
   }
 
  private:
+  // The denoiser over this method's visibility (its own history: one pass per method object).
+  void denoise(Renderer& r, FrameStats& stats) {
+    const RenderSettings& s = r.settings();
+    if (!denoiser_) denoiser_ = std::make_unique<DenoisePass>(r.context(), s.width, s.height);
+    r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      r.timer().begin(cmd, "denoise");
+      denoiser_->record(cmd,
+                        {r.gbuffer(), r.frameBuffer(), r.visibility(), r.traceFlags(), r.blockers(), selective_,
+                         r.view(), r.frameData().light, r.bounds().center()},
+                        s.denoise);
+      r.timer().end(cmd);
+    });
+    stats.memoryBytes["denoiser"] = denoiser_->bytes() + r.blockers().size();
+    stats.denoise = denoiseModeName(s.denoise.mode);
+  }
+
   bool selective_;
+  std::unique_ptr<DenoisePass> denoiser_;
   std::string tracerName_;  // empty: the settings' tracer
 };
 

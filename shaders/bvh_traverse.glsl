@@ -172,11 +172,6 @@ RayHit bvhAnyHitRecord(vec3 origin, vec3 dir, float tMin, float tMax, uint dynam
   return hit;
 }
 
-// Whether anything lies on the ray within [tMin, tMax]; stops at the first hit found.
-bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax, uint dynamicRoot) {
-  return bvhAnyHitRecord(origin, dir, tMin, tMax, dynamicRoot).triangle != BVH_NO_HIT;
-}
-
 // The nearest hit within [tMin, tMax] in either tree: the dynamic tree only looks before the
 // static tree's hit.
 RayHit bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, uint dynamicRoot) {

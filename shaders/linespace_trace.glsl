@@ -34,7 +34,9 @@ layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 
 // The line space answers from where the ray is startOffset above the surface on (see LsPush); the
 // moving meshes' trace is exact, so it takes the whole segment, as bvh_trace.comp does.
-bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
+// A shaft says that something blocks, not where: the blocker distance is unknown (-1).
+bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax, out float blockerT) {
+  blockerT = -1.0f;
   float tStart = min(lsPush.startOffset / max(dot(dir, point.normal), 1e-3), tMax);
   if (lsOccluded(origin, dir, tStart, tMax)) return true;
   return lsPush.dynamicRoot != BVH_NO_TREE && movingOccluded(origin, dir, tMax);
@@ -44,7 +46,7 @@ void main() {
   uint index = tracePointIndex();
   uint rays = 0u;
   ShadingPoint point;
-  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
+  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, frame.blockers, rays);
 #ifndef LS_MOVING_RAY_QUERY
   lsNodeVisits += bvhNodeVisits;  // the dynamic BVH's visits count as traversal steps too
 #endif

@@ -17,14 +17,16 @@ layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
 
-bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax) {
-  return rqTrace(origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;
+bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax, out float blockerT) {
+  RayHit hit = rqTrace(origin, dir, 0.0f, tMax, true);
+  blockerT = hit.t;
+  return hit.triangle != BVH_NO_HIT;
 }
 
 void main() {
   uint index = tracePointIndex();
   uint rays = 0u;
   ShadingPoint point;
-  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, rays);
+  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, frame.blockers, rays);
   rqAddRays(rays);
 }

@@ -43,6 +43,7 @@ struct FrameData {
   uint traceInPlace;  // 1: trace kernels take every covered pixel from the G-buffer, not the compacted list
   uint traceCapacity;  // points the trace list holds
   uvec2 tracePoints;   // the trace list's device address (low, high): shaders/point_list.glsl
+  uvec2 blockers;      // where the trace writes each traced pixel's mean blocker distance (float per pixel); 0: nowhere
 };
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).

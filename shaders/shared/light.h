@@ -12,7 +12,7 @@ PN_BEGIN
 #define LIGHT_RECT 3u
 #define LIGHT_DISK 4u
 
-// std430, 80 bytes.
+// std430, 96 bytes.
 struct GpuLight {
   vec4 position;   // xyz world position (unused by directional)
   vec4 direction;  // xyz unit: where the light points (travel direction for directional)
@@ -22,6 +22,8 @@ struct GpuLight {
   float size;          // rect side / disk diameter in world units; 0 = point
   float cosHalfAngle;  // spot cone; -1 for other lights
   float rayEpsilon;    // smallest shadow-ray origin offset along the normal, world units (shadowRayOrigin)
+  uint sampleFrame;    // frame of a sequence: rotates every pixel's samples (lightSampleOffset); 0 = unrotated
+  uint pad0, pad1, pad2;
 };
 
 PN_FN uint pcgHash(uint v) {
@@ -47,11 +49,22 @@ PN_FN bool isAreaLight(GpuLight light) {
   return (light.type == LIGHT_RECT || light.type == LIGHT_DISK) && light.size > 0.0f;
 }
 
-// The light point that sample `s` of `spp` for `pixel` aims at (the centre for non-area lights).
+// Frame `frame`'s toroidal shift of every pixel's sample pattern: the R2 low-discrepancy sequence
+// (Roberts 2018) in 32-bit fixed point, exact on CPU and GPU; frame 0 shifts nothing. A pixel's
+// samples stay stratified within a frame and, added over frames, fill the light evenly; the
+// per-pixel jitter keeps neighbours decorrelated.
+PN_FN vec2 lightSampleOffset(uint frame) {
+  return vec2(hashToUnit(frame * 3242174889u), hashToUnit(frame * 2447445414u));
+}
+
+// The light point that sample `s` of `spp` for `pixel` aims at (the centre for non-area lights),
+// in the light's sampleFrame.
 PN_FN vec3 lightSamplePoint(GpuLight light, uint pixel, uint s, uint spp) {
   vec3 centre = vec3(light.position);
   if (!isAreaLight(light)) return centre;
-  vec2 u = stratifiedSample(pixel, s, spp);
+  vec2 u = stratifiedSample(pixel, s, spp) + lightSampleOffset(light.sampleFrame);
+  if (u.x >= 1.0f) u.x -= 1.0f;
+  if (u.y >= 1.0f) u.y -= 1.0f;
   vec3 t = vec3(light.tangent);
   vec3 b = cross(vec3(light.direction), t);
   if (light.type == LIGHT_RECT) {

@@ -1,0 +1,119 @@
+#include "hybrid/denoise_pass.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/scene.h"
+#include "denoise_accumulate_comp.h"
+#include "denoise_spatial_comp.h"
+#include "shared/denoise.h"
+
+namespace penumbra {
+namespace {
+
+static_assert(sizeof(shared::DenoiseAccumulatePush) == 96 && sizeof(shared::DenoiseSpatialPush) == 32 &&
+                  sizeof(shared::DenoiseHistory) == 16,
+              "std430 layout of shared/denoise.h");
+
+using Type = vk::DescriptorType;
+constexpr gpu::Binding kAccumulateBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
+                                                {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
+                                                {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
+                                                {6, Type::eStorageBuffer}, {7, Type::eStorageBuffer}};
+constexpr gpu::Binding kSpatialBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
+                                             {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
+                                             {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
+                                             {6, Type::eStorageBuffer}};
+
+vk::DeviceSize pixels(std::uint32_t width, std::uint32_t height) { return vk::DeviceSize(width) * height; }
+
+gpu::Buffer historyBuffer(const gpu::Context& context, std::uint32_t width, std::uint32_t height, const char* name) {
+  return gpu::Buffer(context, pixels(width, height) * sizeof(shared::DenoiseHistory), vk::BufferUsageFlagBits::eStorageBuffer,
+                     name);
+}
+
+}  // namespace
+
+DenoiseMode parseDenoiseMode(const std::string& name) {
+  if (name == "off") return DenoiseMode::Off;
+  if (name == "spatial") return DenoiseMode::Spatial;
+  if (name == "temporal") return DenoiseMode::Temporal;
+  throw InputError("unknown --denoise '" + name + "'; use off, spatial or temporal");
+}
+
+std::string denoiseModeName(DenoiseMode mode) {
+  return mode == DenoiseMode::Spatial ? "spatial" : mode == DenoiseMode::Temporal ? "temporal" : "off";
+}
+
+DenoisePass::DenoisePass(const gpu::Context& context, std::uint32_t width, std::uint32_t height)
+    : width_(width),
+      height_(height),
+      accumulate_(context, denoise_accumulate_comp, kAccumulateBindings, sizeof(shared::DenoiseAccumulatePush),
+                  "denoise accumulate pipeline"),
+      spatial_(context, denoise_spatial_comp, kSpatialBindings, sizeof(shared::DenoiseSpatialPush),
+               "denoise spatial pipeline"),
+      accumulated_(context, pixels(width, height) * 2 * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer,
+                   "denoise accumulated"),
+      history_{historyBuffer(context, width, height, "denoise history 0"),
+               historyBuffer(context, width, height, "denoise history 1")} {}
+
+float DenoisePass::historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous,
+                                 const glm::vec3& sceneCentre, const DenoiseSettings& settings) {
+  const glm::vec3 at(light.position), was(previous.position);
+  if (light.type != previous.type || light.size != previous.size) return 1.0f;
+  const float moved = glm::distance(at, was);
+  if (moved == 0.0f) return settings.maxHistory;
+  const float distance = std::max(glm::distance(at, sceneCentre), 1e-6f);
+  const float frames = settings.motionFraction * (light.size / distance) / (moved / distance);
+  return std::clamp(std::floor(frames), 1.0f, settings.maxHistory);
+}
+
+std::uint64_t DenoisePass::bytes() const { return accumulated_.size() + history_[0].size() + history_[1].size(); }
+
+void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, const DenoiseSettings& settings) {
+  const float pixelScale = 2.0f / (std::abs(in.view.proj[1][1]) * float(height_));
+  const std::uint32_t groupsX = (width_ + DENOISE_GROUP_SIZE - 1) / DENOISE_GROUP_SIZE;
+  const std::uint32_t groupsY = (height_ + DENOISE_GROUP_SIZE - 1) / DENOISE_GROUP_SIZE;
+  const bool temporal = settings.mode == DenoiseMode::Temporal;
+  const std::uint32_t next = 1u - current_;
+  gpu::computeToComputeAndHost(cmd);  // the trace's visibility and blocker distances
+  accumulate_.bind(cmd, gpu::Descriptors{}
+                            .storageImage(0, in.gbuffer.position().view())
+                            .storageImage(1, in.gbuffer.normal().view())
+                            .buffer(2, in.frameData)
+                            .buffer(3, in.visibility)
+                            .buffer(4, in.flags)
+                            .buffer(5, history_[current_])
+                            .buffer(6, history_[next])
+                            .buffer(7, accumulated_));
+  accumulate_.pushConstants(cmd, shared::DenoiseAccumulatePush{.previousViewProj = previousViewProj_,
+                                                               .pixelScale = pixelScale,
+                                                               .maxHistory = historyFrames(in.light, previousLight_,
+                                                                                           in.sceneCentre, settings),
+                                                               .useHistory = temporal && historyValid_ ? 1u : 0u,
+                                                               .useFlags = in.useFlags ? 1u : 0u,
+                                                               .clipSigmas = settings.clipSigmas});
+  cmd.dispatch(groupsX, groupsY, 1);
+  gpu::computeToComputeAndHost(cmd);
+  spatial_.bind(cmd, gpu::Descriptors{}
+                         .storageImage(0, in.gbuffer.position().view())
+                         .storageImage(1, in.gbuffer.normal().view())
+                         .buffer(2, in.frameData)
+                         .buffer(3, accumulated_)
+                         .buffer(4, in.flags)
+                         .buffer(5, in.blockers)
+                         .buffer(6, in.visibility));
+  spatial_.pushConstants(cmd, shared::DenoiseSpatialPush{.pixelScale = pixelScale,
+                                                         .maxRadius = settings.maxRadius,
+                                                         .targetSamples = settings.targetSamples,
+                                                         .useFlags = in.useFlags ? 1u : 0u,
+                                                         .widthFraction = settings.widthFraction});
+  cmd.dispatch(groupsX, groupsY, 1);
+  gpu::computeToComputeAndHost(cmd);
+  current_ = next;
+  historyValid_ = temporal;
+  previousViewProj_ = in.view.viewProj;
+  previousLight_ = in.light;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,75 @@
+// The shadow denoiser (issue 23) for few-sample soft shadows. With --denoise temporal, each noisy
+// pixel's samples are first averaged over frames, reprojected through the G-buffer, the history
+// dropped on disocclusion and clipped where the current neighbourhood disagrees with it
+// (shaders/denoise_accumulate.comp); then a spatial filter inside the penumbra mask gathers about
+// targetSamples samples per pixel, within the penumbra's width from the blocker distances the trace
+// wrote, with depth and normal edge-stopping (shaders/denoise_spatial.comp). --denoise spatial is
+// the filter alone. Pixels outside the mask stay exact. One pass object per method, so that each
+// method's history is its own.
+#pragma once
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+
+#include "core/camera.h"
+#include "gpu/pipeline.h"
+#include "raster/gbuffer_pass.h"
+#include "shared/light.h"
+
+namespace penumbra {
+
+enum class DenoiseMode { Off, Spatial, Temporal };
+DenoiseMode parseDenoiseMode(const std::string& name);  // off | spatial | temporal; InputError otherwise
+std::string denoiseModeName(DenoiseMode mode);
+
+struct DenoiseSettings {
+  DenoiseMode mode = DenoiseMode::Off;
+  float maxRadius = 16.0f;      // pixels
+  float maxHistory = 16.0f;     // frames the temporal average spans at most
+  // While the light moves, the history spans at most the frames over which it moves by this fraction
+  // of its own angular size (seen from the scene's centre): shadows move by a like fraction of
+  // their penumbra's width, so the average does not drag them (1 frame when it jumps).
+  float motionFraction = 0.25f;
+  // Tuned on the courtyard at 512^2, light 0.1, 1 spp, 8th frame (bench/results/denoise.md): a
+  // tighter clip (1.5) biases the average; a wider radius blurs the wires' shadows.
+  float clipSigmas = 3.0f;      // history clipped to the current neighbourhood's mean +- this many deviations
+  float targetSamples = 64.0f;  // light samples the spatial filter gathers per pixel (with earlier frames')
+  float widthFraction = 0.25f;  // its radius stays below this fraction of the penumbra's width
+};
+
+class DenoisePass {
+ public:
+  DenoisePass(const gpu::Context& context, std::uint32_t width, std::uint32_t height);
+
+  struct Inputs {
+    const raster::GBufferPass& gbuffer;
+    const gpu::Buffer& frameData;   // shared::FrameData
+    const gpu::Buffer& visibility;  // denoised in place
+    const gpu::Buffer& flags;       // trace flags per pixel (srt's mask), read when useFlags
+    const gpu::Buffer& blockers;    // mean blocker distance per traced pixel (0: none known)
+    bool useFlags;
+    const ViewMatrices& view;
+    const shared::GpuLight& light;  // a light that moved since the previous frame shortens the history
+    glm::vec3 sceneCentre;
+  };
+  // Frames the history may span now (settings.maxHistory unless the light moved since `previous`).
+  static float historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous, const glm::vec3& sceneCentre,
+                             const DenoiseSettings& settings);
+  // Records the filter (settings.mode Spatial or Temporal) over inputs.visibility.
+  void record(const vk::raii::CommandBuffer& cmd, const Inputs& inputs, const DenoiseSettings& settings);
+  // Forgets the history: the next temporal frame starts from its own samples.
+  void resetHistory() { historyValid_ = false; }
+  std::uint64_t bytes() const;
+
+ private:
+  std::uint32_t width_, height_;
+  gpu::ComputePipeline accumulate_, spatial_;
+  gpu::Buffer accumulated_;
+  gpu::Buffer history_[2];
+  std::uint32_t current_ = 0;  // history_[current_] holds the last frame's
+  bool historyValid_ = false;
+  glm::mat4 previousViewProj_{1.0f};
+  shared::GpuLight previousLight_{};
+};
+
+}  // namespace penumbra

@@ -1,0 +1,72 @@
+#version 450
+// The denoiser's temporal accumulation (hybrid/denoise_pass.h), before its spatial filter: each
+// noisy pixel's visibility (its light samples of this frame) is averaged with its history - the
+// running mean at the pixel where the same surface point was in the previous frame, found by
+// reprojecting the point with the previous camera - over at most maxHistory frames. The history is
+// dropped where that pixel saw another surface (disocclusion: off the receiver's plane or away from
+// the point by more than a few pixels) and clipped to the current 5x5 neighbourhood's mean +-
+// clipSigmas deviations, so that shadows that moved with the light or with moving geometry leave no
+// trail: where the neighbourhood agrees (outside penumbrae) the history must agree too. Pixels
+// outside the mask are exact: their value, with a full count, is their history.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/denoise.h"
+#include "shared/frame.h"
+layout(local_size_x = DENOISE_GROUP_SIZE, local_size_y = DENOISE_GROUP_SIZE) in;
+layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
+layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
+layout(std430, binding = 2) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = 3) readonly buffer Visibility { float visibility[]; };
+layout(std430, binding = 4) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = 5) readonly buffer HistoryIn { DenoiseHistory historyIn[]; };
+layout(std430, binding = 6) writeonly buffer HistoryOut { DenoiseHistory historyOut[]; };
+layout(std430, binding = 7) writeonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
+layout(push_constant) uniform Push { DenoiseAccumulatePush push; };
+
+void main() {
+  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(frame.width, frame.height);
+  if (pix.x >= size.x || pix.y >= size.y) return;
+  uint index = uint(pix.y) * frame.width + uint(pix.x);
+  vec4 position = imageLoad(gPosition, pix);
+  float current = visibility[index];
+  if (position.w == 0.0) {
+    historyOut[index] = DenoiseHistory(vec3(0.0), packHalf2x16(vec2(0.0)));
+    accumulated[index] = vec2(current, 0.0);
+    return;
+  }
+  vec3 p = position.xyz;
+  float result = current, frames = 1.0;
+  if (push.useFlags != 0u && flags[index] == 0u) {
+    frames = push.maxHistory;  // exact
+  } else if (push.useHistory != 0u) {
+    vec4 clip = push.previousViewProj * vec4(p, 1.0);
+    vec2 at = (clip.xy / max(clip.w, 1e-30) * 0.5 + 0.5) * vec2(size);
+    ivec2 q = ivec2(floor(at));
+    if (clip.w > 0.0 && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) {
+      DenoiseHistory h = historyIn[uint(q.y) * frame.width + uint(q.x)];
+      vec2 vc = unpackHalf2x16(h.valueCount);
+      vec3 n = imageLoad(gNormal, pix).xyz;
+      float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
+      if (vc.y > 0.0 && abs(dot(n, h.position - p)) < 2.0 * pixelWorld && distance(h.position, p) < 4.0 * pixelWorld) {
+        float sum = 0.0, squares = 0.0, count = 0.0;
+        for (int dy = -2; dy <= 2; ++dy) {
+          for (int dx = -2; dx <= 2; ++dx) {
+            ivec2 r = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
+            if (imageLoad(gPosition, r).w == 0.0) continue;
+            float v = visibility[uint(r.y) * frame.width + uint(r.x)];
+            sum += v;
+            squares += v * v;
+            count += 1.0;
+          }
+        }
+        float mean = sum / count;
+        float deviation = sqrt(max(squares / count - mean * mean, 0.0));
+        float history = clamp(vc.x, mean - push.clipSigmas * deviation, mean + push.clipSigmas * deviation);
+        frames = min(vc.y + 1.0, push.maxHistory);
+        result = mix(history, current, 1.0 / frames);
+      }
+    }
+  }
+  historyOut[index] = DenoiseHistory(p, packHalf2x16(vec2(result, frames)));
+  accumulated[index] = vec2(result, frames);
+}

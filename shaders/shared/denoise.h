@@ -1,0 +1,39 @@
+// The shadow denoiser (hybrid/denoise_pass.h): push constants of its two kernels and the history
+// it keeps per pixel between frames.
+#ifndef PENUMBRA_SHARED_DENOISE_H
+#define PENUMBRA_SHARED_DENOISE_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+#define DENOISE_GROUP_SIZE 8  // 8x8 pixels per workgroup
+#define DENOISE_TAPS 3        // spatial filter: (2 * DENOISE_TAPS + 1)^2 taps, spaced to span the radius
+
+// denoise_accumulate.comp, 96 bytes.
+struct DenoiseAccumulatePush {
+  mat4 previousViewProj;  // the camera of the frame the history holds
+  float pixelScale;       // world size of a pixel at unit distance from the camera (2 tan(fovY / 2) / height)
+  float maxHistory;       // frames the accumulation averages at most (its 1 / alpha)
+  uint useHistory;        // 0: the history is empty (first frame of a sequence, --denoise spatial)
+  uint useFlags;          // 1: only pixels with a trace flag are noisy (srt's penumbra mask); 0: every covered pixel
+  float clipSigmas;       // history clipped to the current 5x5 neighbourhood's mean +- this many deviations
+  uint pad0, pad1, pad2;
+};
+
+// denoise_spatial.comp, 32 bytes.
+struct DenoiseSpatialPush {
+  float pixelScale;
+  float maxRadius;      // pixels
+  float targetSamples;  // light samples the filter gathers per pixel (with those of earlier frames)
+  uint useFlags;
+  float widthFraction;  // the radius stays below this fraction of the penumbra's width
+  uint pad0, pad1, pad2;
+};
+
+// One pixel of the history (std430, 16 bytes): the surface point it saw and its accumulated value.
+struct DenoiseHistory {
+  vec3 position;    // world
+  uint valueCount;  // packHalf2x16(value, frames accumulated); frames 0: nothing (uncovered)
+};
+
+PN_END
+#endif
