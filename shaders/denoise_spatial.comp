@@ -41,8 +41,8 @@ void main() {
   // distance is known in the 5x5 neighbourhood (2-pixel steps).
   float radius = sqrt(push.targetSamples / (3.14159265 * max(centre.y, 1.0) * float(max(frame.spp, 1u))));
   float blockerSum = 0.0, blockerCount = 0.0;
-  for (int dy = -4; dy <= 4; dy += 2) {
-    for (int dx = -4; dx <= 4; dx += 2) {
+  for (int dy = -2; dy <= 2; dy += 2) {
+    for (int dx = -2; dx <= 2; dx += 2) {
       ivec2 q = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
       uint qi = uint(q.y) * frame.width + uint(q.x);
       float b = noisy(qi) ? blockers[qi] : 0.0;

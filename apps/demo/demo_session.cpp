@@ -97,6 +97,7 @@ DemoSession::Key DemoSession::currentKey() const { return {renderCamera(), rende
 
 const Frame& DemoSession::render() {
   const Key key = currentKey();
+  renderer_->setFrame(setup_.settings.denoise.mode == DenoiseMode::Temporal ? sequenceFrame_++ : 0u);
   Frame frame = renderer_->render(method_, key.camera, key.light);
   temporalChange_ = frame_.stats.method == method_ ? changeBetween(frame_, frame) : std::nullopt;
   frame_ = std::move(frame);  // replaces the previous frame's buffers (same sizes: no growth)
@@ -106,6 +107,7 @@ const Frame& DemoSession::render() {
 
 const Frame& DemoSession::renderReference() {
   const Key key = currentKey();
+  renderer_->setFrame(0);
   Frame reference = renderer_->render("ref", key.camera, key.light);
   referenceTemporalChange_ = changeBetween(reference_, reference);
   reference_ = std::move(reference);

@@ -44,7 +44,8 @@ class DemoSession {
   void setTime(double seconds);  // poses the animated meshes and tells the renderer
 
   // Renders the method for the current view; the change against the previous frame of the same
-  // method and resolution is then in temporalChange().
+  // method and resolution is then in temporalChange(). With --denoise temporal every frame is the
+  // next of a sequence (new light samples, accumulated by the denoiser).
   const Frame& render();
   const Frame& frame() const { return frame_; }
   std::optional<double> temporalChange() const { return temporalChange_; }
@@ -83,6 +84,7 @@ class DemoSession {
   bool animated_;
   double time_ = 0.0;
   std::uint64_t settingsVersion_ = 0;
+  std::uint32_t sequenceFrame_ = 0;  // --denoise temporal: frames rendered so far (each gets new light samples)
   std::unique_ptr<Renderer> renderer_;
 
   Frame frame_;

@@ -17,6 +17,7 @@ constexpr std::array<int, 6> kMapRes = {256, 512, 1024, 2048, 4096, 8192};
 constexpr std::array<LightType, 5> kLightTypes = {LightType::Point, LightType::Spot, LightType::Directional,
                                                   LightType::Rect, LightType::Disk};
 constexpr std::array<const char*, 5> kLightTypeNames = {"point", "spot", "dir", "rect", "disk"};
+constexpr std::array<const char*, 3> kDenoiseModes = {"off", "spatial", "temporal"};
 constexpr std::array<const char*, 5> kOverlayLabels = {"none", "PIP (traced pixels, red)", "penumbra mask",
                                                        "thin-pass coverage", "error vs reference"};
 
@@ -68,6 +69,12 @@ void controls(DemoSession& session, UiState& state) {
   }
   settingsChanged |= intCombo("spp", kSpp, settings.spp);
   settingsChanged |= intCombo("shadow map", kMapRes, settings.shadowMap.resolution);
+  int denoise = int(settings.denoise.mode);  // DenoiseMode in kDenoiseModes' order
+  if (ImGui::Combo("denoise", &denoise, kDenoiseModes.data(), int(kDenoiseModes.size())) &&
+      DenoiseMode(denoise) != settings.denoise.mode) {
+    settings.denoise.mode = DenoiseMode(denoise);
+    settingsChanged = true;
+  }
   if (settingsChanged) session.setSettings(settings);
 
   ImGui::Separator();
