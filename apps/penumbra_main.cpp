@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
   std::string methodList = "sm,pcf";
   compare->add_option("--methods", methodList, "Comma-separated methods to compare with ref")->capture_default_str();
   compare->add_option("--csv", config.csv, "Append one row per method (with machine, driver and device) to this CSV file");
-  compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp)");
+  compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp; 256 with --denoise)");
   compare->add_flag("--no-report", config.noReport, "Do not run report.py (report.html and its chart)");
   compare->add_flag("--explain-misses", config.explainMisses,
                     "Hard shadows: count why the classification left out each pixel sm gets wrong (miss_causes in "

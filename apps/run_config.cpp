@@ -237,7 +237,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   applyLightSize(s.light, s.lightSizeFraction, bounds);
 
   s.settings.spp = c.spp;
-  s.settings.referenceSpp = c.referenceSpp;
+  // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
+  s.settings.referenceSpp = c.referenceSpp ? c.referenceSpp : c.denoise != "off" ? kConvergedSpp : 0u;
   using Reads = raster::ShadowMapSettings::Reads;
   const Reads reads = c.shadowReads == "texture" ? Reads::Texture : c.shadowReads == "buffer" ? Reads::Buffer : Reads::Auto;
   s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset, reads};

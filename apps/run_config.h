@@ -14,6 +14,10 @@
 
 namespace penumbra {
 
+// Light samples per pixel of the reference a denoised run is compared with when --reference-spp
+// is not given: the converged image, not one with the method's few samples.
+constexpr std::uint32_t kConvergedSpp = 256;
+
 struct RunConfig {
   std::string scene = "builtin:courtyard";
   std::string camera, light, viewFile, saveView;

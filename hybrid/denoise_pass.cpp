@@ -92,7 +92,8 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                                                                                            in.sceneCentre, settings),
                                                                .useHistory = temporal && historyValid_ ? 1u : 0u,
                                                                .useFlags = in.useFlags ? 1u : 0u,
-                                                               .clipSigmas = settings.clipSigmas});
+                                                               .clipSigmas = settings.clipSigmas,
+                                                               .clipMargin = settings.clipMargin});
   cmd.dispatch(groupsX, groupsY, 1);
   gpu::computeToComputeAndHost(cmd);
   spatial_.bind(cmd, gpu::Descriptors{}

@@ -29,10 +29,13 @@ struct DenoiseSettings {
   // While the light moves, the history spans at most the frames over which it moves by this fraction
   // of its own angular size (seen from the scene's centre): shadows move by a like fraction of
   // their penumbra's width, so the average does not drag them (1 frame when it jumps).
-  float motionFraction = 0.25f;
+  // 0.35: under a light circling 0.25 degrees a frame the shadows change about as much from frame
+  // to frame as the reference's (0.95x and 1.19x on the courtyard and the bunny; 0.5 lags, 0.74x).
+  float motionFraction = 0.35f;
   // Tuned on the courtyard at 512^2, light 0.1, 1 spp, 8th frame (bench/results/denoise.md): a
   // tighter clip (1.5) biases the average; a wider radius blurs the wires' shadows.
   float clipSigmas = 3.0f;      // history clipped to the current neighbourhood's mean +- this many deviations
+  float clipMargin = 0.0f;      // ... widened by this (0.1-0.25 helps foliage a little: maple 0.058 -> 0.055)
   float targetSamples = 64.0f;  // light samples the spatial filter gathers per pixel (with earlier frames')
   float widthFraction = 0.25f;  // its radius stays below this fraction of the penumbra's width
 };

@@ -61,7 +61,8 @@ void main() {
         }
         float mean = sum / count;
         float deviation = sqrt(max(squares / count - mean * mean, 0.0));
-        float history = clamp(vc.x, mean - push.clipSigmas * deviation, mean + push.clipSigmas * deviation);
+        float spread = push.clipSigmas * deviation + push.clipMargin;
+        float history = clamp(vc.x, mean - spread, mean + spread);
         frames = min(vc.y + 1.0, push.maxHistory);
         result = mix(history, current, 1.0 / frames);
       }

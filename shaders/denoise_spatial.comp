@@ -60,6 +60,9 @@ void main() {
   }
   radius = clamp(radius, 0.5, push.maxRadius);
 
+  // Surfaces turned away from the light are dark for certain (no ray is traced there): taps on the
+  // other side of the terminator from the pixel are not averaged with it.
+  bool facing = dot(n, frame.light.position.xyz - p) > 0.0;
   float step = max(radius / float(DENOISE_TAPS), 1.0);
   float sum = centre.x, weights = 1.0;
   for (int j = -DENOISE_TAPS; j <= DENOISE_TAPS; ++j) {
@@ -72,6 +75,7 @@ void main() {
       vec4 qp = imageLoad(gPosition, q);
       if (qp.w == 0.0) continue;
       vec3 qn = imageLoad(gNormal, q).xyz;
+      if ((dot(qn, frame.light.position.xyz - qp.xyz) > 0.0) != facing) continue;  // across the terminator
       float offPlane = abs(dot(n, qp.xyz - p)) / (pixelWorld * sqrt(d2));
       float w = exp(-2.0 * d2 / (radius * radius)) * exp(-4.0 * offPlane) * pow(max(dot(n, qn), 0.0), 16.0);
       sum += w * accumulated[uint(q.y) * frame.width + uint(q.x)].x;

@@ -94,6 +94,26 @@ TEST(OptimizedModels, GltfpackOutputRendersAsTheOriginal) {
   expectValidationSilent();
 }
 
+// gltfpack's simplifier (-si 0.5: half the triangles) changes the geometry, so its shadows are
+// compared with its own reference: srt and frt on the simplified model are as exact as on any.
+TEST(OptimizedModels, GltfpackSimplifiedModelRenders) {
+  Folder dir;
+  const std::string obj = courtyardObj(dir);
+  ASSERT_TRUE(gltfpack("-i " + obj + " -o " + dir.file("simplified.glb") + " -si 0.5"));
+  const Scene simplified = loadScene(dir.file("simplified.glb"));
+  const std::size_t original = loadCourtyard().triangleCount();
+  EXPECT_GT(simplified.triangleCount(), original / 4);
+  EXPECT_LT(simplified.triangleCount(), original * 3 / 5);
+  const Scene& courtyard = loadCourtyard();
+  Renderer renderer(validatedContext(), simplified, smallSettings(128, 1024));
+  const Frame reference = renderer.render("ref", *courtyard.camera, courtyard.lights.front());
+  for (const char* method : {"srt", "frt"}) {
+    EXPECT_LE(differingPixels(reference, renderer.render(method, *courtyard.camera, courtyard.lights.front())), 0.001)
+        << method;
+  }
+  expectValidationSilent();
+}
+
 // Draco as users make it: the float GLB passed through the draco library's own transcoder, to a
 // .glb and to a .gltf with its .bin (the decoded bytes then go to a new first buffer), at
 // gltfpack's default precision (14-bit positions: the bound above). At the transcoder's own

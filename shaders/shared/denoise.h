@@ -16,7 +16,8 @@ struct DenoiseAccumulatePush {
   uint useHistory;        // 0: the history is empty (first frame of a sequence, --denoise spatial)
   uint useFlags;          // 1: only pixels with a trace flag are noisy (srt's penumbra mask); 0: every covered pixel
   float clipSigmas;       // history clipped to the current 5x5 neighbourhood's mean +- this many deviations
-  uint pad0, pad1, pad2;
+  float clipMargin;       // ... widened by this (a neighbourhood of few samples may all agree by chance)
+  uint pad0, pad1;
 };
 
 // denoise_spatial.comp, 32 bytes.
