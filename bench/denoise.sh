@@ -7,14 +7,10 @@
 # the mean frame-to-frame visibility change over 8 frames under a light circling 0.25 degrees per
 # frame, beside the reference's. Release build, median of REPEAT frames.
 # Writes bench/results/denoise.{csv,md,machine.txt} and denoise_report/ (report.html).
-set -euo pipefail
-cd "$(dirname "${BASH_SOURCE[0]}")/.."
-source scripts/env.sh
-[ -x build/bin/penumbra ] || bash scripts/build.sh
+RES=${RES:-512x512}
+source "$(dirname "$0")/lib.sh" denoise  # Release build, Vulkan environment, REPEAT
 G=bench/scenes/generated
 [ -f "$G/bunny_stage.gltf" ] || { echo "denoise: run bench/fetch_scenes.sh first" >&2; exit 1; }
-RES=${RES:-512x512}
-REPEAT=${REPEAT:-3}
 out=bench/results/denoise_report
 rm -rf "$out"
 ./build/bin/penumbra bench --methods srt,frt,pcss,msm --spp 1,4,16 --denoise off,temporal \
