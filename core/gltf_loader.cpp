@@ -481,8 +481,8 @@ Scene loadGltf(const std::string& path) {
     for (const std::string& name : compression) {
       const bool meshopt = name == "EXT_meshopt_compression";
       const gltf::DecodeStats stats = meshopt ? gltf::decodeMeshopt(rewrite) : gltf::decodeDraco(rewrite);
-      notes.push_back(name + ": " + std::to_string(stats.items) + (meshopt ? " bufferViews" : " primitives") +
-                      " decoded (" + std::to_string(stats.decodedBytes >> 10) + " KiB)");
+      notes.push_back(name + ": " + std::to_string(stats.items) + (meshopt ? " bufferView" : " primitive") +
+                      (stats.items == 1 ? "" : "s") + " decoded (" + std::to_string(stats.decodedBytes >> 10) + " KiB)");
     }
     decoded = rewrite.finish(compression);
     notes.back() += " in " + std::to_string(int(std::chrono::duration<double, std::milli>(
