@@ -5,8 +5,9 @@
 # on the courtyard and three real models (the Stanford Bunny scan, the FZK-Haus building, a maple
 # tree's foliage), light sizes 0.05, 0.1 and 0.2 of the scene radius, 512^2. Temporal stability:
 # the mean frame-to-frame visibility change over 8 frames under a light circling 0.25 degrees per
-# frame, beside the reference's. Release build, median of REPEAT frames.
-# Writes bench/results/denoise.{csv,md,machine.txt} and denoise_report/ (report.html).
+# frame, beside the reference's. Then 1 spp + temporal once more at the 32nd frame (a still view
+# keeps converging). Release build, median of REPEAT frames.
+# Writes bench/results/denoise.{csv,md,machine.txt}, denoise_frame32.csv and denoise_report/ (report.html).
 RES=${RES:-512x512}
 source "$(dirname "$0")/lib.sh" denoise  # Release build, Vulkan environment, REPEAT
 G=bench/scenes/generated
@@ -17,15 +18,27 @@ rm -rf "$out"
   --scenes "builtin:courtyard,$G/bunny_stage.gltf,$G/fzk-haus_stage.gltf,$G/maple.gltf" --light-sizes 0.05,0.1,0.2 \
   --reference-spp 256 --res "$RES" --warmup 1 --repeat "$REPEAT" --temporal-frames 8 --no-images --out "$out"
 mv "$out/bench.csv" bench/results/denoise.csv
+late=$(mktemp -d)
+./build/bin/penumbra bench --methods srt,frt --spp 1 --denoise temporal --denoise-frames 32 \
+  --scenes "builtin:courtyard,$G/bunny_stage.gltf,$G/fzk-haus_stage.gltf,$G/maple.gltf" --light-sizes 0.05,0.1,0.2 \
+  --reference-spp 256 --res "$RES" --warmup 1 --repeat "$REPEAT" --temporal-frames 0 --no-images --no-report --out "$late"
+mv "$late/bench.csv" bench/results/denoise_frame32.csv
+rm -rf "$late"
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m)" |
   tee bench/results/denoise.machine.txt
 /usr/bin/python3 - "$RES" <<'PY' > bench/results/denoise.md
 import csv, sys, collections
 rows = [r for r in csv.DictReader(open("bench/results/denoise.csv")) if r["method"] != "ref"]
+for r in csv.DictReader(open("bench/results/denoise_frame32.csv")):
+    if r["method"] != "ref":
+        r["label"] += " (32nd frame)"
+        r["temporal_change"] = ""
+        rows.append(r)
 first = rows[0]
 print("# Few samples and the shadow denoiser\n")
 print(f"`bench/denoise.sh`: {sys.argv[1]}, against the Embree reference with 256 light samples per pixel. "
-      "`temporal` rows are the 8th frame of a sequence from a cut (each frame new light samples, 1/4/16 per pixel); "
+      "`temporal` rows are the 8th frame of a sequence from a cut (each frame new light samples, 1/4/16 per pixel), "
+      "or the 32nd where they say so; "
       "the others are single frames. rmse and wrong % (|error| > 0.05) are of the visibility over covered pixels, "
       "FLIP of the shaded image; 'flicker' is the mean frame-to-frame visibility change under a light circling "
       "0.25 degrees per frame divided by the reference's (1.00x = no change beyond the shadows' own); "

@@ -76,6 +76,11 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
   const std::uint32_t groupsY = (height_ + DENOISE_GROUP_SIZE - 1) / DENOISE_GROUP_SIZE;
   const bool temporal = settings.mode == DenoiseMode::Temporal;
   const std::uint32_t next = 1u - current_;
+  const float historyFramesNow = historyFrames(in.light, previousLight_, in.sceneCentre, settings);
+  // Clipped only where the image may have changed under the history: the light or the geometry moved,
+  // or the camera (reprojection takes a neighbouring pixel's history).
+  const bool changed = historyFramesNow < settings.maxHistory || in.sceneVersion != previousSceneVersion_ ||
+                       in.view.viewProj != previousViewProj_;
   gpu::computeToComputeAndHost(cmd);  // the trace's visibility and blocker distances
   accumulate_.bind(cmd, gpu::Descriptors{}
                             .storageImage(0, in.gbuffer.position().view())
@@ -88,12 +93,10 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                             .buffer(7, accumulated_));
   accumulate_.pushConstants(cmd, shared::DenoiseAccumulatePush{.previousViewProj = previousViewProj_,
                                                                .pixelScale = pixelScale,
-                                                               .maxHistory = historyFrames(in.light, previousLight_,
-                                                                                           in.sceneCentre, settings),
+                                                               .maxHistory = historyFramesNow,
                                                                .useHistory = temporal && historyValid_ ? 1u : 0u,
                                                                .useFlags = in.useFlags ? 1u : 0u,
-                                                               .clipSigmas = settings.clipSigmas,
-                                                               .clipMargin = settings.clipMargin});
+                                                               .clipSigmas = changed ? settings.clipSigmas : 0.0f});
   cmd.dispatch(groupsX, groupsY, 1);
   gpu::computeToComputeAndHost(cmd);
   spatial_.bind(cmd, gpu::Descriptors{}
@@ -115,6 +118,7 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
   historyValid_ = temporal;
   previousViewProj_ = in.view.viewProj;
   previousLight_ = in.light;
+  previousSceneVersion_ = in.sceneVersion;
 }
 
 }  // namespace penumbra

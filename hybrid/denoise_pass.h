@@ -25,7 +25,7 @@ std::string denoiseModeName(DenoiseMode mode);
 struct DenoiseSettings {
   DenoiseMode mode = DenoiseMode::Off;
   float maxRadius = 16.0f;      // pixels
-  float maxHistory = 16.0f;     // frames the temporal average spans at most
+  float maxHistory = 32.0f;     // frames the temporal average spans at most (a still view converges over them)
   // While the light moves, the history spans at most the frames over which it moves by this fraction
   // of its own angular size (seen from the scene's centre): shadows move by a like fraction of
   // their penumbra's width, so the average does not drag them (1 frame when it jumps).
@@ -34,8 +34,8 @@ struct DenoiseSettings {
   float motionFraction = 0.35f;
   // Tuned on the courtyard at 512^2, light 0.1, 1 spp, 8th frame (bench/results/denoise.md): a
   // tighter clip (1.5) biases the average; a wider radius blurs the wires' shadows.
-  float clipSigmas = 3.0f;      // history clipped to the current neighbourhood's mean +- this many deviations
-  float clipMargin = 0.0f;      // ... widened by this (0.1-0.25 helps foliage a little: maple 0.058 -> 0.055)
+  float clipSigmas = 3.0f;      // after the light, the geometry or the camera moved: history clipped to
+                                // the current neighbourhood's mean +- this many deviations
   float targetSamples = 64.0f;  // light samples the spatial filter gathers per pixel (with earlier frames')
   float widthFraction = 0.25f;  // its radius stays below this fraction of the penumbra's width
 };
@@ -54,6 +54,7 @@ class DenoisePass {
     const ViewMatrices& view;
     const shared::GpuLight& light;  // a light that moved since the previous frame shortens the history
     glm::vec3 sceneCentre;
+    std::uint64_t sceneVersion;     // changes when the geometry moves (Renderer::sceneMoved)
   };
   // Frames the history may span now (settings.maxHistory unless the light moved since `previous`).
   static float historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous, const glm::vec3& sceneCentre,
@@ -73,6 +74,7 @@ class DenoisePass {
   bool historyValid_ = false;
   glm::mat4 previousViewProj_{1.0f};
   shared::GpuLight previousLight_{};
+  std::uint64_t previousSceneVersion_ = 0;
 };
 
 }  // namespace penumbra

@@ -110,6 +110,7 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
 }
 
 void Renderer::sceneMoved() {
+  ++sceneVersion_;
   geometry_.update(scene_);
   embree_.reset();
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,

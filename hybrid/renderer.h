@@ -80,6 +80,7 @@ class Renderer {
   // samples (shared::lightSampleOffset), the same for every method and the reference, so that
   // frames of a sequence see new samples and a temporal denoiser gathers them.
   void setFrame(std::uint32_t frame) { frame_ = frame; }
+  std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
   std::uint32_t frameIndex() const { return frame_; }
 
   // For methods, valid during render():
@@ -165,6 +166,7 @@ class Renderer {
   ViewMatrices view_;
   glm::vec3 cameraPosition_{0.0f};
   std::uint32_t frame_ = 0;
+  std::uint64_t sceneVersion_ = 0;
   std::optional<FrameStats::Refit> refit_;  // the last sceneMoved()'s, for the frames after it
 };
 

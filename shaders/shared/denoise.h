@@ -15,9 +15,8 @@ struct DenoiseAccumulatePush {
   float maxHistory;       // frames the accumulation averages at most (its 1 / alpha)
   uint useHistory;        // 0: the history is empty (first frame of a sequence, --denoise spatial)
   uint useFlags;          // 1: only pixels with a trace flag are noisy (srt's penumbra mask); 0: every covered pixel
-  float clipSigmas;       // history clipped to the current 5x5 neighbourhood's mean +- this many deviations
-  float clipMargin;       // ... widened by this (a neighbourhood of few samples may all agree by chance)
-  uint pad0, pad1;
+  float clipSigmas;       // > 0: history clipped to the current 5x5 neighbourhood's mean +- this many deviations
+  uint pad0, pad1, pad2;
 };
 
 // denoise_spatial.comp, 32 bytes.
@@ -33,7 +32,7 @@ struct DenoiseSpatialPush {
 // One pixel of the history (std430, 16 bytes): the surface point it saw and its accumulated value.
 struct DenoiseHistory {
   vec3 position;    // world
-  uint valueCount;  // packHalf2x16(value, frames accumulated); frames 0: nothing (uncovered)
+  uint valueCount;  // value in 16-bit fixed point, then frames accumulated (16 bits); frames 0: nothing (uncovered)
 };
 
 PN_END
