@@ -31,7 +31,7 @@ import csv, sys, collections
 rows = [r for r in csv.DictReader(open("bench/results/denoise.csv")) if r["method"] != "ref"]
 for r in csv.DictReader(open("bench/results/denoise_frame32.csv")):
     if r["method"] != "ref":
-        r["label"] += " (32nd frame)"
+        r["label"] = f"{r['method']} {r['params_label']} (32nd frame)"
         r["temporal_change"] = ""
         rows.append(r)
 first = rows[0]
