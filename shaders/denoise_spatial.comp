@@ -38,7 +38,7 @@ void main() {
   float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
 
   // The radius that gathers targetSamples samples, bounded by the penumbra's width where a blocker
-  // distance is known in the 5x5 neighbourhood (2-pixel steps).
+  // distance is known among the 3x3 pixels 2 apart around it.
   float radius = sqrt(push.targetSamples / (3.14159265 * max(centre.y, 1.0) * float(max(frame.spp, 1u))));
   float blockerSum = 0.0, blockerCount = 0.0;
   for (int dy = -2; dy <= 2; dy += 2) {
