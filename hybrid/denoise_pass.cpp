@@ -32,6 +32,15 @@ gpu::Buffer historyBuffer(const gpu::Context& context, std::uint32_t width, std:
                      name);
 }
 
+// Frames the history may span now: settings.maxHistory, or, when the light moved since `previous`,
+// those over which it moves motionFraction of its size (seen from the scene, the angles' ratio).
+float historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous, const DenoiseSettings& settings) {
+  if (light.type != previous.type || light.size != previous.size) return 1.0f;
+  const float moved = glm::distance(glm::vec3(light.position), glm::vec3(previous.position));
+  if (moved == 0.0f) return settings.maxHistory;
+  return std::clamp(std::floor(settings.motionFraction * light.size / moved), 1.0f, settings.maxHistory);
+}
+
 }  // namespace
 
 DenoiseMode parseDenoiseMode(const std::string& name) {
@@ -57,17 +66,6 @@ DenoisePass::DenoisePass(const gpu::Context& context, std::uint32_t width, std::
       history_{historyBuffer(context, width, height, "denoise history 0"),
                historyBuffer(context, width, height, "denoise history 1")} {}
 
-float DenoisePass::historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous,
-                                 const glm::vec3& sceneCentre, const DenoiseSettings& settings) {
-  const glm::vec3 at(light.position), was(previous.position);
-  if (light.type != previous.type || light.size != previous.size) return 1.0f;
-  const float moved = glm::distance(at, was);
-  if (moved == 0.0f) return settings.maxHistory;
-  const float distance = std::max(glm::distance(at, sceneCentre), 1e-6f);
-  const float frames = settings.motionFraction * (light.size / distance) / (moved / distance);
-  return std::clamp(std::floor(frames), 1.0f, settings.maxHistory);
-}
-
 std::uint64_t DenoisePass::bytes() const { return accumulated_.size() + history_[0].size() + history_[1].size(); }
 
 void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, const DenoiseSettings& settings) {
@@ -76,7 +74,7 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
   const std::uint32_t groupsY = (height_ + DENOISE_GROUP_SIZE - 1) / DENOISE_GROUP_SIZE;
   const bool temporal = settings.mode == DenoiseMode::Temporal;
   const std::uint32_t next = 1u - current_;
-  const float historyFramesNow = historyFrames(in.light, previousLight_, in.sceneCentre, settings);
+  const float historyFramesNow = historyFrames(in.light, previousLight_, settings);
   // Clipped only where the image may have changed under the history: the light or the geometry moved,
   // or the camera (reprojection takes a neighbouring pixel's history).
   const bool changed = historyFramesNow < settings.maxHistory || in.sceneVersion != previousSceneVersion_ ||

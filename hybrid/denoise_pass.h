@@ -53,16 +53,10 @@ class DenoisePass {
     bool useFlags;
     const ViewMatrices& view;
     const shared::GpuLight& light;  // a light that moved since the previous frame shortens the history
-    glm::vec3 sceneCentre;
     std::uint64_t sceneVersion;     // changes when the geometry moves (Renderer::sceneMoved)
   };
-  // Frames the history may span now (settings.maxHistory unless the light moved since `previous`).
-  static float historyFrames(const shared::GpuLight& light, const shared::GpuLight& previous, const glm::vec3& sceneCentre,
-                             const DenoiseSettings& settings);
   // Records the filter (settings.mode Spatial or Temporal) over inputs.visibility.
   void record(const vk::raii::CommandBuffer& cmd, const Inputs& inputs, const DenoiseSettings& settings);
-  // Forgets the history: the next temporal frame starts from its own samples.
-  void resetHistory() { historyValid_ = false; }
   std::uint64_t bytes() const;
 
  private:

@@ -81,7 +81,6 @@ class Renderer {
   // frames of a sequence see new samples and a temporal denoiser gathers them.
   void setFrame(std::uint32_t frame) { frame_ = frame; }
   std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
-  std::uint32_t frameIndex() const { return frame_; }
 
   // For methods, valid during render():
   const gpu::Context& context() const { return context_; }

@@ -100,7 +100,7 @@ class TracedMethod final : public Method {
       r.timer().begin(cmd, "denoise");
       denoiser_->record(cmd,
                         {r.gbuffer(), r.frameBuffer(), r.visibility(), r.traceFlags(), r.blockers(), selective_,
-                         r.view(), r.frameData().light, r.bounds().center(), r.sceneVersion()},
+                         r.view(), r.frameData().light, r.sceneVersion()},
                         s.denoise);
       r.timer().end(cmd);
     });
