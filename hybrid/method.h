@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/context.h"
 #include "hybrid/frame_stats.h"
 
 namespace penumbra {
@@ -20,6 +21,8 @@ class Method {
   virtual ~Method() = default;
   // Leaves the frame's visibility in renderer.visibility() and records passes into stats.
   virtual void run(Renderer& renderer, FrameStats& stats) = 0;
+  // Records what works on the finished visibility, in the shading pass's submission, before it.
+  virtual void recordBeforeShade(Renderer&, const vk::raii::CommandBuffer&, FrameStats&) {}
   // What the shared frame data must say for this method.
   virtual std::uint32_t shadowFilter(const RenderSettings&) const { return 0; }  // FILTER_NONE
   virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;

@@ -288,6 +288,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   gbufferRecorded_ = false;
   if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    method->recordBeforeShade(*this, cmd, stats);
     timer_.begin(cmd, "shade");
     shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, color_);
     timer_.end(cmd);
