@@ -29,19 +29,11 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   gpu::Context context({.validate = config.validate});
   Renderer renderer(context, setup.scene, setup.settings);
 
-  // With --denoise temporal each method renders a sequence of frames (new light samples each) from
-  // a cut; the warm-up frames are the first ones, so that the measured frame is --denoise-frames.
-  const bool sequence = setup.settings.denoise.mode == DenoiseMode::Temporal;
   auto measured = [&](const std::string& method) {
-    const std::uint32_t warmup = sequence && method != "ref" ? std::max(config.warmup, config.denoiseFrames - 1) : config.warmup;
-    std::uint32_t frame = 0;
-    auto render = [&] {
-      renderer.setFrame(sequence && method != "ref" ? frame++ : 0u);
-      return renderer.render(method, setup.camera, setup.light);
-    };
-    for (std::uint32_t i = 0; i < warmup; ++i) render();
+    FrameSequence sequence(config, setup.settings, method);
+    for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.light);
     std::vector<Frame> runs;
-    for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(render());
+    for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(sequence.next(renderer, setup.camera, setup.light));
     std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
     Frame median = std::move(runs[runs.size() / 2]);
     median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};

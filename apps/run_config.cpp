@@ -174,6 +174,16 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--out", c.outDir, "Output folder")->capture_default_str();
 }
 
+FrameSequence::FrameSequence(const RunConfig& config, const RenderSettings& settings, std::string method)
+    : method_(std::move(method)),
+      sequence_(settings.denoise.mode == DenoiseMode::Temporal && method_ != "ref"),
+      warmup_(sequence_ ? std::max(config.warmup, config.denoiseFrames - 1) : config.warmup) {}
+
+Frame FrameSequence::next(Renderer& renderer, const Camera& camera, const Light& light) {
+  renderer.setFrame(sequence_ ? frame_++ : 0u);
+  return renderer.render(method_, camera, light);
+}
+
 std::vector<std::string> splitList(const std::string& list) {
   std::vector<std::string> items;
   std::stringstream in(list);

@@ -1,6 +1,7 @@
 // The options `render` and `compare` share, and turning them into a checked run: scene, camera,
 // light and settings, all resolved (and refused with a clear message) before the GPU starts.
 #pragma once
+#include <cstdint>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -61,6 +62,23 @@ struct RunSetup {
   float lightSizeFraction = 0.0f;
   double time = 0.0;  // the scene is posed at this time
   RenderSettings settings;
+};
+
+// The frames one method renders in a run (`render`, `compare`, `bench`). With --denoise temporal
+// (and a method other than `ref`) each is the next frame of a sequence from a cut, with new light
+// samples, and the warm-up frames are its first ones, so that the first measured frame is
+// --denoise-frames (or the one after --warmup's, when those are more); otherwise every frame is frame 0.
+class FrameSequence {
+ public:
+  FrameSequence(const RunConfig& config, const RenderSettings& settings, std::string method);
+  std::uint32_t warmup() const { return warmup_; }
+  Frame next(Renderer& renderer, const Camera& camera, const Light& light);
+
+ private:
+  std::string method_;
+  bool sequence_;
+  std::uint32_t warmup_;
+  std::uint32_t frame_ = 0;
 };
 
 void addRunOptions(CLI::App& app, RunConfig& config);

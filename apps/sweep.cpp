@@ -357,7 +357,7 @@ SweepResult runSweep(const Sweep& sweep) {
       std::unique_ptr<Renderer> renderer;
       std::vector<Frame> runs;
       std::optional<double> temporalChange;  // with sweep.temporalFrames
-      std::uint32_t frame = 0;  // --denoise temporal: the next frame of its sequence (new light samples each)
+      std::optional<FrameSequence> frames;  // the frames it renders (a sequence with --denoise temporal)
     };
     std::vector<Job> jobs;
     jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
@@ -370,27 +370,17 @@ SweepResult runSweep(const Sweep& sweep) {
       setup.scene = Scene{};
       jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}, {}});
     }
-    // A temporally denoised method renders a sequence (as `compare` does): warm-up frames are its
-    // first ones, so that the measured frames are --denoise-frames and later.
     auto render = [&](Job& job, const Light& light) {
-      const RunSetup& s = job.config ? job.setup : refSetup;
-      const bool sequence = s.settings.denoise.mode == DenoiseMode::Temporal;
-      job.renderer->setFrame(sequence ? job.frame++ : 0u);
-      return job.renderer->render(job.method, s.camera, light);
+      return job.frames->next(*job.renderer, (job.config ? job.setup : refSetup).camera, light);
     };
     auto start = [&](Job& job) {
       progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : "ref"));
       const RunSetup& s = job.config ? job.setup : refSetup;
       job.renderer = std::make_unique<Renderer>(context, refSetup.scene, s.settings);
-      const std::uint32_t warmup = s.settings.denoise.mode == DenoiseMode::Temporal
-                                       ? std::max(job.runConfig.warmup, job.runConfig.denoiseFrames - 1)
-                                       : job.runConfig.warmup;
-      for (std::uint32_t i = 0; i < warmup; ++i) render(job, s.light);
+      job.frames.emplace(job.runConfig, s.settings, job.method);
+      for (std::uint32_t i = 0; i < job.frames->warmup(); ++i) render(job, s.light);
     };
-    auto measure = [&](Job& job) {
-      const RunSetup& s = job.config ? job.setup : refSetup;
-      job.runs.push_back(render(job, s.light));
-    };
+    auto measure = [&](Job& job) { job.runs.push_back(render(job, (job.config ? job.setup : refSetup).light)); };
     // The mean change between consecutive frames under the slowly circling light (untimed frames).
     auto temporal = [&](Job& job) {
       if (sweep.temporalFrames < 2) return;
