@@ -13,15 +13,6 @@ namespace {
 
 constexpr const char* kName = "KHR_draco_mesh_compression";
 
-std::size_t componentBytes(int componentType) {
-  switch (componentType) {
-    case 5120: case 5121: return 1;
-    case 5122: case 5123: return 2;
-    case 5125: case 5126: return 4;
-    default: return 0;
-  }
-}
-
 std::size_t componentCount(const std::string& type) {
   if (type == "SCALAR") return 1;
   if (type == "VEC2") return 2;
@@ -44,15 +35,20 @@ bool convert(const draco::PointAttribute& attribute, std::size_t points, std::si
   return true;
 }
 
+// Whether glTF may store a vertex attribute in `componentType` (double is not glTF).
+bool attributeComponent(int componentType) {
+  return componentType != TINYGLTF_COMPONENT_TYPE_DOUBLE && tinygltf::GetComponentSizeInBytes(componentType) > 0;
+}
+
 bool convertAttribute(const draco::PointAttribute& attribute, int componentType, std::size_t points,
                       std::size_t components, std::size_t stride, unsigned char* out) {
   switch (componentType) {
-    case 5120: return convert<std::int8_t>(attribute, points, components, stride, out);
-    case 5121: return convert<std::uint8_t>(attribute, points, components, stride, out);
-    case 5122: return convert<std::int16_t>(attribute, points, components, stride, out);
-    case 5123: return convert<std::uint16_t>(attribute, points, components, stride, out);
-    case 5125: return convert<std::uint32_t>(attribute, points, components, stride, out);
-    default: return convert<float>(attribute, points, components, stride, out);
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return convert<std::int8_t>(attribute, points, components, stride, out);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return convert<std::uint8_t>(attribute, points, components, stride, out);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return convert<std::int16_t>(attribute, points, components, stride, out);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return convert<std::uint16_t>(attribute, points, components, stride, out);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return convert<std::uint32_t>(attribute, points, components, stride, out);
+    default: return convert<float>(attribute, points, components, stride, out);  // FLOAT (attributeComponent)
   }
 }
 
@@ -111,7 +107,7 @@ class PrimitiveDecoder {
   std::size_t indices(nlohmann::json& p, const draco::Mesh& mesh) {
     const std::size_t count = std::size_t(mesh.num_faces()) * 3;
     if (!p.contains("indices")) {
-      rewrite_.doc()["accessors"].push_back({{"componentType", 5125}, {"type", "SCALAR"}, {"count", count}});
+      rewrite_.doc()["accessors"].push_back({{"componentType", TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}, {"type", "SCALAR"}, {"count", count}});
       p["indices"] = rewrite_.doc()["accessors"].size() - 1;
     }
     nlohmann::json& a = accessor(p["indices"], "indices");
@@ -123,7 +119,7 @@ class PrimitiveDecoder {
     for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f) {
       for (int k = 0; k < 3; ++k) out[3 * f.value() + k] = mesh.face(f)[k].value();
     }
-    a["componentType"] = 5125;
+    a["componentType"] = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     pointAccessor(rewrite_, a, offset, count * 4, 0);
     return count * 4;
   }
@@ -134,13 +130,13 @@ class PrimitiveDecoder {
     const int componentType = a.contains("componentType") && a["componentType"].is_number_integer()
                                   ? a["componentType"].get<int>() : 0;
     const std::string type = a.contains("type") && a["type"].is_string() ? a["type"].get<std::string>() : "?";
-    const std::size_t components = componentCount(type), size = componentBytes(componentType);
-    if (!components || !size)
+    const std::size_t components = componentCount(type);
+    if (!components || !attributeComponent(componentType))
       fail(path(), what + " has type " + type + " / componentType " + std::to_string(componentType), kCorrupt);
     if (sizeField(a, "count", 0, what, path()) != points)
       fail(path(), what + " claims " + a["count"].dump() + " elements; its Draco stream holds " + std::to_string(points),
            kCorrupt);
-    const std::size_t stride = (components * size + 3) / 4 * 4;
+    const std::size_t stride = (components * std::size_t(tinygltf::GetComponentSizeInBytes(componentType)) + 3) / 4 * 4;
     if (points > (std::size_t(1) << 31) / stride) fail(path(), what + " decodes to more than 2 GiB", "split the model");
     const std::size_t offset = rewrite_.append(points * stride);
     if (!convertAttribute(attribute, componentType, points, components, stride, rewrite_.at(offset)))
