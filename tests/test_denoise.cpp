@@ -28,19 +28,24 @@ RenderSettings denoiseSettings(std::uint32_t spp, DenoiseMode mode, std::uint32_
   return s;
 }
 
+// Frames `first` .. `first + count - 1` of a sequence of `method`; the last one.
+Frame renderFrames(Renderer& renderer, const std::string& method, const Camera& camera, const Light& light,
+                   std::uint32_t first, std::uint32_t count) {
+  Frame last;
+  for (std::uint32_t i = first; i < first + count; ++i) {
+    renderer.setFrame(i);
+    last = renderer.render(method, camera, light);
+  }
+  return last;
+}
+
 // The courtyard with a disk light a tenth of the scene radius wide.
 struct SoftCourtyard : SceneRun {
   explicit SoftCourtyard(const RenderSettings& settings) : SceneRun("builtin:courtyard", settings) {
     applyLightSize(light, 0.1f, scene.bounds());
   }
-  // Frames `first` .. `first + count - 1` of the sequence with `method`; returns the last.
   Frame sequence(const std::string& method, std::uint32_t first, std::uint32_t count, const Light& at) {
-    Frame last;
-    for (std::uint32_t i = 0; i < count; ++i) {
-      renderer->setFrame(first + i);
-      last = renderer->render(method, camera, at);
-    }
-    return last;
+    return renderFrames(*renderer, method, camera, at, first, count);
   }
 };
 
@@ -48,12 +53,7 @@ struct SoftCourtyard : SceneRun {
 Frame sequenceOf(const Scene& scene, const Camera& camera, const Light& light, const RenderSettings& settings,
                  const std::string& method, std::uint32_t frames) {
   Renderer renderer(validatedContext(), scene, settings);
-  Frame last;
-  for (std::uint32_t i = 0; i < frames; ++i) {
-    renderer.setFrame(i);
-    last = renderer.render(method, camera, light);
-  }
-  return last;
+  return renderFrames(renderer, method, camera, light, 0, frames);
 }
 
 // A disk light `size` radii wide up and to the left of the ground.
@@ -107,11 +107,7 @@ TEST(Denoise, StillViewConvergesPastSixteenSamples) {
   const auto run = [](std::uint32_t spp, DenoiseMode mode, std::uint32_t frames) {
     SceneRun foliage("builtin:foliage", denoiseSettings(spp, mode));
     applyLightSize(foliage.light, 0.1f, foliage.scene.bounds());
-    Frame last;
-    for (std::uint32_t i = 0; i < frames; ++i) {
-      foliage.renderer->setFrame(i);
-      last = foliage.render("frt");
-    }
+    const Frame last = renderFrames(*foliage.renderer, "frt", foliage.camera, foliage.light, 0, frames);
     return std::pair{last, foliage.render("ref")};
   };
   const auto [sixteen, reference] = run(16, DenoiseMode::Off, 1);
