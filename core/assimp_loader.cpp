@@ -31,27 +31,28 @@ class ConfinedIOSystem : public Assimp::DefaultIOSystem {
  public:
   explicit ConfinedIOSystem(std::string folder) : folder_(std::move(folder)) {}
   bool Exists(const char* file) const override {
-    if (!file || !allowed(file)) {
-      refused.emplace_back(file ? file : "");
-      return false;
-    }
-    return DefaultIOSystem::Exists(resolve(file).c_str());
+    const std::string path = confined(file);
+    return !path.empty() && DefaultIOSystem::Exists(path.c_str());
   }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     const std::string m = mode ? mode : "";
-    if (!file || !allowed(file) || m.find_first_of("wa+") != std::string::npos) {
-      refused.emplace_back(file ? file : "");
-      return nullptr;
-    }
-    return DefaultIOSystem::Open(resolve(file).c_str(), mode);
+    const std::string path = m.find_first_of("wa+") == std::string::npos ? confined(file) : refuse(file);
+    return path.empty() ? nullptr : DefaultIOSystem::Open(path.c_str(), mode);
   }
   mutable std::vector<std::string> refused;  // asked for, in Exists or Open
 
  private:
-  std::string resolve(const char* file) const { return (folder_ / fs::path(file)).lexically_normal().string(); }
-  bool allowed(const char* file) const {
-    const fs::path relative = fs::path(resolve(file)).lexically_relative(folder_);
-    return !relative.empty() && confinedPathProblem(folder_.string(), relative.string()).empty();
+  // `file` resolved against the model's folder, or empty (and noted in `refused`) when it is outside.
+  std::string confined(const char* file) const {
+    if (!file) return refuse(file);
+    const fs::path path = (folder_ / fs::path(file)).lexically_normal();
+    const fs::path relative = path.lexically_relative(folder_);
+    if (relative.empty() || !confinedPathProblem(folder_.string(), relative.string()).empty()) return refuse(file);
+    return path.string();
+  }
+  std::string refuse(const char* file) const {
+    refused.emplace_back(file ? file : "");
+    return {};
   }
   fs::path folder_;
 };
