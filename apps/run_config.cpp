@@ -247,8 +247,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   applyLightSize(s.light, s.lightSizeFraction, bounds);
 
   s.settings.spp = c.spp;
+  s.settings.denoise.mode = parseDenoiseMode(c.denoise);
   // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
-  s.settings.referenceSpp = c.referenceSpp ? c.referenceSpp : c.denoise != "off" ? kConvergedSpp : 0u;
+  s.settings.referenceSpp =
+      c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
   using Reads = raster::ShadowMapSettings::Reads;
   const Reads reads = c.shadowReads == "texture" ? Reads::Texture : c.shadowReads == "buffer" ? Reads::Buffer : Reads::Auto;
   s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset, reads};
@@ -265,7 +267,6 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
-  s.settings.denoise.mode = parseDenoiseMode(c.denoise);
   s.settings.fitLightToView = c.lightFit == "view";
   s.settings.thin.maxWidthTexels = c.thinWidth;
   s.settings.thin.minAspect = c.thinAspect;
