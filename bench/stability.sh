@@ -37,8 +37,8 @@ run "grazing light 3.2 deg (courtyard)" - --scene builtin:courtyard --light dir:
 # A large light just above the caster: a disk half the scene radius wide, 0.5 above the bunny's ears.
 run "large light near caster (bunny, 0.5 r)" sm,pcf,pcss,msm --scene "$G/bunny_stage.gltf" \
   --light disk:0.3,2.5,0.4:0,0,0 --light-size 0.5 --spp 16 --methods "$ALL"
-# The same with the corner maps: the ears' inner faces are shadowed by their own curl (a smooth
-# concave rise with no depth edge in the centre map), which only the corners' maps see.
+# The same with the corner maps, the repair before the centre map's search found the ears' own
+# curl (a smooth rise with no depth edge in the centre map).
 run "large light near caster, 5 penumbra maps (bunny, 0.5 r)" - --scene "$G/bunny_stage.gltf" \
   --light disk:0.3,2.5,0.4:0,0,0 --light-size 0.5 --spp 16 --penumbra-maps 5 --methods srt
 # Overlapping penumbrae of casters at two heights (pcss's single average blocker depth).
@@ -143,13 +143,12 @@ for area lights (16 samples per pixel). "expected" marks the methods each case i
 
 ## Known unexpected failures
 
-- **Soft srt, large light near the bunny (one centre map)**: lit pixels on the inner faces of the
-  ears see part of the light blocked by the ears' own curl, a smooth concave rise with no depth edge
-  in the centre map, so no edge texel's splat reaches them (lowering `--pip-delta` to 1e-4 makes
-  the curl an edge and leaves 0.036% wrong). The mask's search found them by accident before
-  432c9fa, when it read coarse tiles. `--penumbra-maps 5` (the next row) sees them: 0 wrong.
-  Marking a lit receiver needs the surfaces above its tangent plane within its window, not only
-  edges (issue 17).
+For srt and frt, none in this run (the rows below give every method's verdict). Until issue 17's
+mask search (penumbra_mask.glsl: the surface channel, every cube face, the face's plane) soft srt
+under the large light near the bunny left 0.313% of the pixels wrong: lit pixels on the ears' inner faces see part of the light blocked by the ears' own curl, a
+smooth rise with no depth edge in the map, by blockers ~240 texels away in another cube face, and
+where the light dips below a face's plane while above its smoothed normal's. `--penumbra-maps 5`
+(the next row) had been the repair.
 
 ## Results
 

@@ -22,7 +22,7 @@ std::uint32_t levelCount(std::uint32_t resolution) {
 
 vk::DeviceSize tileBytes(std::uint32_t resolution, std::uint32_t faceCount) {
   const std::uint32_t levels = levelCount(resolution);
-  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * sizeof(float);
+  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * 2 * sizeof(float);  // two channels per tile
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 #version 450
 // One level of the edge pyramid: each tile reduces the 2x2 tiles below it; level 1 finds the edge
 // texels of the shadow map (3x3 depth edge, or a thin triangle within a texel: the thin mask is
-// dilated, shared/thin.h) and their blocker depth.
+// dilated, shared/thin.h) and their blocker depth, and the nearest depth of all its texels.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/pyramid.h"
@@ -16,11 +16,12 @@ layout(push_constant) uniform PushBlock { PyramidPush push; };
 
 float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane, push.farPlane, z); }
 
-// Level 1: the nearest blocker depth of the edge texels among the 2x2 texels from q (1 = none). A
+// Level 1: the nearest blocker depth of the edge texels among the 2x2 texels from q (1 = none), and
+// the nearest depth of the 2x2 texels (the surface channel; 1 outside the face). A
 // texel is an edge texel when its 3x3 neighbourhood (clamped to the face) spans more than the
 // threshold; its blocker depth is the neighbourhood's minimum. The four neighbourhoods share one
 // 4x4 window of loads (16 instead of 36).
-float edgeTile(ivec2 q, uint face) {
+vec2 edgeTile(ivec2 q, uint face) {
   int res = int(push.resolution);
   float raw[16], lin[16];
   for (int y = 0; y < 4; ++y) {
@@ -30,7 +31,7 @@ float edgeTile(ivec2 q, uint face) {
       lin[y * 4 + x] = linearDepth(raw[y * 4 + x]);
     }
   }
-  float tile = 1.0;
+  vec2 tile = vec2(1.0);
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 2; ++i) {
       ivec2 c = q + ivec2(i, j);
@@ -46,17 +47,17 @@ float edgeTile(ivec2 q, uint face) {
       }
       float blocker = delta > push.deltaThreshold ? nearest : 1.0;
       if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(thinMask, thinTexels, c, face, res));
-      tile = min(tile, blocker);
+      tile = min(tile, vec2(blocker, raw[(j + 1) * 4 + i + 1]));
     }
   }
   return tile;
 }
 
-float below(ivec2 q, uint face) {
+vec2 below(ivec2 q, uint face) {
   uint dim = pyramidDim(push.resolution, push.level - 1u);
-  if (uint(q.x) >= dim || uint(q.y) >= dim) return 1.0;
-  uint base = pyramidOffset(push.resolution, push.faceCount, push.level - 1u);
-  return tiles[base + (face * dim + uint(q.y)) * dim + uint(q.x)];
+  if (uint(q.x) >= dim || uint(q.y) >= dim) return vec2(1.0);
+  uint tile = pyramidOffset(push.resolution, push.faceCount, push.level - 1u) + (face * dim + uint(q.y)) * dim + uint(q.x);
+  return vec2(tiles[2u * tile + PYRAMID_EDGES], tiles[2u * tile + PYRAMID_SURFACE]);
 }
 
 void main() {
@@ -64,6 +65,8 @@ void main() {
   uvec3 id = gl_GlobalInvocationID;
   if (id.x >= dim || id.y >= dim || id.z >= push.faceCount) return;
   ivec2 q = 2 * ivec2(id.xy);
-  float nearest = push.level == 1u ? edgeTile(q, id.z) : min(min(below(q, id.z), below(q + ivec2(1, 0), id.z)), min(below(q + ivec2(0, 1), id.z), below(q + ivec2(1, 1), id.z)));
-  tiles[pyramidOffset(push.resolution, push.faceCount, push.level) + (id.z * dim + id.y) * dim + id.x] = nearest;
+  vec2 nearest = push.level == 1u ? edgeTile(q, id.z) : min(min(below(q, id.z), below(q + ivec2(1, 0), id.z)), min(below(q + ivec2(0, 1), id.z), below(q + ivec2(1, 1), id.z)));
+  uint tile = pyramidOffset(push.resolution, push.faceCount, push.level) + (id.z * dim + id.y) * dim + id.x;
+  tiles[2u * tile + PYRAMID_EDGES] = nearest.x;
+  tiles[2u * tile + PYRAMID_SURFACE] = nearest.y;
 }

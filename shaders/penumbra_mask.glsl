@@ -1,16 +1,17 @@
 // The penumbra mask of an area light (Lauterbach et al. 2009, 3.2): the union of the splats of the
 // shadow map's edge texels, each the light's shape scaled by the edge's depth relative to the
 // receiver, gathered per pixel from the edge pyramid (shared/pyramid.h) instead of splatted.
-// Included by pip_classify.comp after `frame`, `push` (PipPush), `tiles` (the pyramid),
-// linearDepth, rawDepth and axisDepth are declared.
+// Included by pip_classify.comp after `frame`, `push` (PipPush), `tiles` (the pyramid), the
+// shadow map's reads (LIGHT_TEXEL), linearDepth, rawDepth, axisDepth and MapPlane are declared.
 
 // The penumbra mask's windows on this map for a receiver p (depth d, texel t): window(z) holds the
 // texels where an edge no closer to the light than z can lie and still hide part of the light
 // from p. Such an edge is on a segment from p to a light point at depth >= z; the segments to the
 // light's corners (a disk's bounding square) at depth z project, with p's texel, to a convex hull
-// whose bounding box is the window (+1.5 texels). Along a segment clip coordinates are affine and
-// w is the depth (ortho: 1), so a corner's point at depth z lands at texel alpha * u + beta, with
-// u = 1/z (ortho: z), itself affine in the map's raw depth: a window costs a few multiply-adds.
+// whose bounding box, widened by a texel's reach, is the window. Along a segment clip coordinates
+// are affine and w is the depth (ortho: 1), so a corner's point at depth z lands at texel
+// alpha * u + beta, with u = 1/z (ortho: z), itself affine in the map's raw depth: a window costs
+// a few multiply-adds.
 // Windows shrink as z grows: the cone from p to the light narrows.
 struct SplatCone {
   vec2 alpha[4], beta[4];  // per corner: its point at depth parameter u lies at texel alpha * u + beta
@@ -53,8 +54,8 @@ SplatCone splatCone(vec3 p, mat4 viewProj, ivec2 t) {
   return cone;
 }
 
-// window(z) of the raw depth z as an inclusive texel range.
-void splatWindow(SplatCone cone, float raw, out ivec2 lo, out ivec2 hi) {
+// window(z) of the raw depth z as an inclusive texel range, widened by pad texels.
+void splatWindow(SplatCone cone, float raw, float pad, out ivec2 lo, out ivec2 hi) {
   float u = cone.uOfRaw.x + cone.uOfRaw.y * raw;
   vec2 a = cone.t, b = cone.t;
   for (int j = 0; j < 4; ++j) {
@@ -62,31 +63,66 @@ void splatWindow(SplatCone cone, float raw, out ivec2 lo, out ivec2 hi) {
     a = min(a, e);
     b = max(b, e);
   }
-  lo = ivec2(floor(a - 1.5));
-  hi = ivec2(ceil(b + 1.5));
+  lo = ivec2(floor(a - pad));
+  hi = ivec2(ceil(b + pad));
 }
 
-// .x = 1 when an edge texel whose blocker depth z_e is nearer to the light than the receiver p
-// (depth d, texel t) lies in its own window(z_e), i.e. the edge's splat covers the pixel (the
-// penumbra mask); .y = 1 when the window of the face's nearest edge leaves the face (a cube seam).
-// Searched depth first in the edge pyramid: a tile whose nearest edge z_t lies behind the
-// receiver, or whose texels miss window(z_t), holds no such edge (its edges' windows lie inside
-// window(z_t)), so only tiles that meet their own window are opened, down to 2x2 texels. The
-// face's nearest edge bounds every window, so the search starts from the 2x2 tiles that hold
-// that window; it needs no stack (after a tile's last child comes its parent's next sibling) and
-// opens children nearest to t first. A search that visits PIP_MAX_TILE_VISITS tiles keeps the
-// pixel in the mask.
-vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
+// p's plane (in mapPlane's depth measure) at its highest over the texel centres of the tile xy of
+// level k (1 texel at k = 0).
+float planeMaxOver(MapPlane plane, ivec2 xy, uint k) {
+  float halfSpan = 0.5 * float((1 << k) - 1);
+  vec2 centre = vec2(xy << k) + 0.5 + halfSpan;
+  return plane.s0 + dot(plane.g, centre - plane.e0) + halfSpan * (abs(plane.g.x) + abs(plane.g.y));
+}
+
+// Whether a texel of the 2x2 tile xy (level 1) is nearer than rawLimit, over p's plane by more than
+// its tol, and in its own window.
+bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, float rawLimit) {
+  int res = int(frame.shadow.resolution);
+  for (int j = 0; j < 4; ++j) {
+    ivec2 c = 2 * xy + ivec2(j & 1, j >> 1);
+    if (any(greaterThanEqual(c, ivec2(res)))) continue;
+    float z = LIGHT_TEXEL(shadowMap, shadowTexels, c, face, res);
+    if (z >= rawLimit || plane.sOfRaw.x + plane.sOfRaw.y * z >= planeMaxOver(plane, c, 0u) - plane.tol) continue;
+    ivec2 lo, hi;
+    splatWindow(cone, z, 0.5, lo, hi);
+    if (all(lessThanEqual(c, hi)) && all(greaterThanEqual(c, lo))) return true;
+  }
+  return false;
+}
+
+// .x = 1 when a blocker of the channel's kind lies where its splat covers the receiver p (depth d,
+// texel t), i.e. in its own window: the penumbra mask; .y = 1 when the window of the face's
+// nearest one leaves the face (a cube seam).
+//  - PYRAMID_EDGES: an edge texel whose blocker depth z_e is nearer to the light than p, in
+//    window(z_e).
+//  - PYRAMID_SURFACE: any texel nearer than p and over p's plane (mapPlane) by more than its tol,
+//    in its window. A smooth surface rising over p (an ear's curl) hides part of a light wholly
+//    above p's plane without an edge in the map; a texel of p's own plane, or of a surface curving
+//    away below it, cannot.
+// Searched depth first in the pyramid: a tile whose nearest depth z_t lies behind the receiver,
+// or (surface) is nowhere over p's plane in the tile, or whose texels miss window(z_t), holds no
+// such blocker (its texels' windows lie inside window(z_t)), so only tiles that meet their own
+// window are opened, down to 2x2 texels (surface: then to its texels). The face's nearest blocker
+// bounds every window, so the search starts from the 2x2 tiles that hold that window; it needs no
+// stack (after a tile's last child comes its parent's next sibling) and opens children nearest to
+// t first. A search that visits PIP_MAX_TILE_VISITS tiles keeps the pixel in the mask.
+vec2 withinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d, uint channel, MapPlane plane) {
   SplatCone cone = splatCone(p, viewProj, t);
   if (cone.unbounded) return vec2(1.0, 1.0);
-  float rawLimit = rawDepth(d - push.depthMargin);  // edges at or behind it cannot shadow p
+  bool surface = channel == PYRAMID_SURFACE;
+  // A texel's footprint reaches half a texel from its centre; an edge texel's blocker depth is
+  // its 3x3 neighbourhood's, one texel further.
+  float pad = surface ? 0.5 : 1.5;
+  if (surface && !all(lessThan(abs(plane.g), vec2(1e30)))) return vec2(1.0, 0.0);  // edge-on: unbounded
+  float rawLimit = rawDepth(d - push.depthMargin);  // blockers at or behind it cannot shadow p
   uint res = frame.shadow.resolution, faces = frame.shadow.faceCount, levels = push.pyramidLevels;
-  // The face's nearest edge bounds every window: the search starts at the level where that window
-  // spans at most 2x2 tiles, from those tiles.
-  float zTop = tiles[pyramidOffset(res, faces, levels) + face];
+  // The face's nearest blocker bounds every window: the search starts at the level where that
+  // window spans at most 2x2 tiles, from those tiles.
+  float zTop = tiles[2u * (pyramidOffset(res, faces, levels) + face) + channel];
   if (zTop >= rawLimit) return vec2(0.0, 0.0);
   ivec2 lo, hi;
-  splatWindow(cone, zTop, lo, hi);
+  splatWindow(cone, zTop, pad, lo, hi);
   float seam = any(lessThan(lo, ivec2(0))) || any(greaterThanEqual(hi, ivec2(res))) ? 1.0 : 0.0;
   lo = clamp(lo, ivec2(0), ivec2(res - 1));
   hi = clamp(hi, ivec2(0), ivec2(res - 1));
@@ -103,14 +139,17 @@ vec2 edgeWithinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d) {
       int dim = int(pyramidDim(res, k));
       bool open = false;
       if (xy.x < dim && xy.y < dim) {  // a map whose size is no power of two has tiles cut at its edge
-        float z = tiles[base + (face * uint(dim) + uint(xy.y)) * uint(dim) + uint(xy.x)];
-        if (z < rawLimit) {
-          splatWindow(cone, z, lo, hi);
+        float z = tiles[2u * (base + (face * uint(dim) + uint(xy.y)) * uint(dim) + uint(xy.x)) + channel];
+        if (z < rawLimit && (!surface || plane.sOfRaw.x + plane.sOfRaw.y * z < planeMaxOver(plane, xy, k) - plane.tol)) {
+          splatWindow(cone, z, pad, lo, hi);
           open = all(lessThanEqual(xy << k, hi)) && all(greaterThanEqual(((xy + 1) << k) - 1, lo));
         }
       }
+      if (open && k == 1u) {
+        if (!surface || texelOverWithinReach(cone, plane, xy, face, rawLimit)) return vec2(1.0, seam);
+        open = false;
+      }
       if (open) {
-        if (k == 1u) return vec2(1.0, seam);
         --k;  // on to its first child
         base -= faces * pyramidDim(res, k) * pyramidDim(res, k);
         xy = 2 * xy + ((t >> k) & 1);

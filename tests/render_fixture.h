@@ -32,7 +32,8 @@ struct SceneRun {
   Light light;
   std::unique_ptr<Renderer> renderer;
 
-  SceneRun(const std::string& spec, const RenderSettings& settings) : scene(loadScene(spec)) {
+  SceneRun(const std::string& spec, const RenderSettings& settings) : SceneRun(loadScene(spec), settings) {}
+  SceneRun(Scene built, const RenderSettings& settings) : scene(std::move(built)) {
     camera = *scene.camera;
     light = scene.lights.front();
     renderer = std::make_unique<Renderer>(validatedContext(), scene, settings);

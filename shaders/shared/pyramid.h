@@ -2,9 +2,11 @@
 // edge texel has a depth edge in its 3x3 neighbourhood (max |s - s'| > threshold, the same test
 // as for hard shadows) or a thin triangle within a texel of it (the thin mask is dilated); its
 // blocker depth is the minimum depth there.
-// Level k >= 1 holds, per tile of 2^k x 2^k texels, the minimum blocker depth of its edge texels
-// (1 = none) as a raw NDC depth. One storage buffer: levels 1..count, each faceCount * dim(k)^2
-// floats, face-major.
+// Level k >= 1 holds, per tile of 2^k x 2^k texels, two raw NDC depths: the minimum blocker depth
+// of its edge texels (1 = none) and the minimum depth of all its texels (the surface channel: the
+// mask's search for a smooth surface rising over a lit receiver, which has no edge). One storage
+// buffer: levels 1..count, each faceCount * dim(k)^2 tiles, face-major, a tile's two channels
+// side by side (index 2 * tile + PYRAMID_EDGES or PYRAMID_SURFACE).
 #ifndef PENUMBRA_SHARED_PYRAMID_H
 #define PENUMBRA_SHARED_PYRAMID_H
 #include "shared/glsl_cpp.h"
@@ -12,10 +14,12 @@ PN_BEGIN
 
 #define PYRAMID_GROUP_SIZE 8
 #define PYRAMID_MAX_LEVELS 15
+#define PYRAMID_EDGES 0u
+#define PYRAMID_SURFACE 1u
 
 PN_FN uint pyramidDim(uint resolution, uint level) { return (resolution + (1u << level) - 1u) >> level; }
 
-// Index of the first tile of `level` (>= 1) in the buffer.
+// Index of the first tile of `level` (>= 1) in the buffer, in tiles (two floats each).
 PN_FN uint pyramidOffset(uint resolution, uint faceCount, uint level) {
   uint offset = 0u;
   for (uint k = 1u; k < level; ++k) offset += faceCount * pyramidDim(resolution, k) * pyramidDim(resolution, k);
