@@ -91,8 +91,8 @@ bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, f
   return false;
 }
 
-// .x = 1 when a blocker of the channel's kind lies where its splat covers the receiver p (depth d,
-// texel t), i.e. in its own window: the penumbra mask; .y = 1 when the window of the face's
+// .x = 1 when a blocker of the channel's kind lies where its splat covers the receiver p (depth d;
+// cone = splatCone(p, ...) at its texel t), i.e. in its own window: the penumbra mask; .y = 1 when the window of the face's
 // nearest one leaves the face (a cube seam).
 //  - PYRAMID_EDGES: an edge texel whose blocker depth z_e is nearer to the light than p, in
 //    window(z_e).
@@ -107,9 +107,9 @@ bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, f
 // bounds every window, so the search starts from the 2x2 tiles that hold that window; it needs no
 // stack (after a tile's last child comes its parent's next sibling) and opens children nearest to
 // t first. A search that visits PIP_MAX_TILE_VISITS tiles keeps the pixel in the mask.
-vec2 withinReach(vec3 p, mat4 viewProj, ivec2 t, uint face, float d, uint channel, MapPlane plane) {
-  SplatCone cone = splatCone(p, viewProj, t);
+vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plane) {
   if (cone.unbounded) return vec2(1.0, 1.0);
+  ivec2 t = ivec2(cone.t);
   bool surface = channel == PYRAMID_SURFACE;
   // A texel's footprint reaches half a texel from its centre; an edge texel's blocker depth is
   // its 3x3 neighbourhood's, one texel further.

@@ -189,10 +189,11 @@ bool blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, b
     }
     ivec2 tf = i == 0u ? t : ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * float(res)));
     float d = axisDepth(clip);
-    MapPlane plane = mapPlane(p, nf, texel, viewProj);
-    if (withinReach(offsetP, viewProj, tf, f, d, PYRAMID_EDGES, plane).x > 0.0) return true;
-    if (i == 0u && lit && interior && layerOver(p, nf, texel, viewProj, f, t)) return true;
-    if (lit && withinReach(offsetP, viewProj, tf, f, d, PYRAMID_SURFACE, plane).x > 0.0) return true;
+    SplatCone cone = splatCone(offsetP, viewProj, tf);  // one cone for both channels
+    if (withinReach(cone, f, d, PYRAMID_EDGES, MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), vec2(0.0))).x > 0.0) return true;
+    if (!lit) continue;
+    if (i == 0u && interior && layerOver(p, nf, texel, viewProj, f, t)) return true;
+    if (withinReach(cone, f, d, PYRAMID_SURFACE, mapPlane(p, nf, texel, viewProj)).x > 0.0) return true;
   }
   return false;
 }
@@ -240,7 +241,8 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   int res = int(frame.shadow.resolution);
   ivec2 t = ivec2(floor(uv * float(res)));
   if (corner) {
-    vec2 window = withinReach(offsetP, viewProj, t, face, linearDepth(ndc.z), PYRAMID_EDGES, MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), vec2(0.0)));
+    vec2 window = withinReach(splatCone(offsetP, viewProj, t), face, linearDepth(ndc.z), PYRAMID_EDGES,
+                              MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), vec2(0.0)));  // edges need no plane
     if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) {
       // A pixel the centre pass left unflagged has its sm answer in `visibility` only and no ray
       // end (write() stores both for flagged pixels); the trace and the stats need them.
