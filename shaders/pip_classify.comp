@@ -9,7 +9,8 @@
 //  - a neighbourhood that leaves its cube face (seams are classified conservatively);
 //  - beyond the paper, what the depth test lets through on real content (issue 17, found with
 //    compare --explain-misses): another surface over the receiver within the bias - a surface
-//    rising beside it, a step's foot, a strip lying on it (contact; layerOver).
+//    rising beside it, a step's foot, a strip lying on it (contact; layerOver); and light through
+//    a gap between blockers narrower than a texel, which the map closes (gapBetweenBlockers).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
@@ -162,6 +163,26 @@ bool layerOver(vec3 p, vec3 nf, float texel, mat4 viewProj, uint face, ivec2 t) 
   }
 #undef DEPTH_AT
   return false;
+}
+
+// Whether light may reach a receiver in umbra (point p, on `face`) through a gap between blockers
+// narrower than a texel, which the map closes: the four texels around p's own point hold depths
+// further apart than the edge threshold, so p's light ray passes between two surfaces' texels and
+// the map cannot tell whether they meet (leaves side by side on a tree's crown). The 2x2
+// footprint, not the 3x3: the gap must separate the texel centres nearest to p's point. A gap in
+// one surface (all four alike) stays unseen, like a blocker the map lacks. Area lights need no
+// such test: an edge texel nearer than the receiver puts it in the penumbra mask.
+bool gapBetweenBlockers(vec3 p, mat4 viewProj, uint face) {
+  int res = int(frame.shadow.resolution);
+  vec4 c = viewProj * vec4(p, 1.0);
+  ivec2 q = ivec2(floor((c.xy / c.w * 0.5 + 0.5) * float(res) - 0.5));
+  float lo = 1.0, hi = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    float z = LIGHT_TEXEL(shadowMap, shadowTexels, clamp(q + ivec2(k & 1, k >> 1), ivec2(0), ivec2(res - 1)), face, res);
+    lo = min(lo, z);
+    hi = max(hi, z);
+  }
+  return linearDepth(hi) - linearDepth(lo) > push.deltaThreshold;
 }
 
 // Whether a blocker may hide part of an area light from the receiver p (face normal nf; offsetP
@@ -332,6 +353,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   }
   if (s >= lo && flags == 0u && interior &&
       layerOver(p, nf, texel, viewProj, face, t)) flags |= PIP_CONTACT;
+  if (vis == 0.0 && flags == 0u && gapBetweenBlockers(p, viewProj, face)) flags |= PIP_GAP;
   zMin = min(zMin, thinDepth);
   if (push.explain != 0u) {
     uint reason = PIP_WHY_NONE;

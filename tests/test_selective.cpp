@@ -385,6 +385,38 @@ TEST(Selective, LayersAHairAboveTheReceiverAreTraced) {
   expectValidationSilent();
 }
 
+// Light through a gap narrower than a texel (issue 17, found between the foliage's leaves): two
+// blockers at nearly the same distance from the light, side by side with a gap of a third of a
+// texel between their edges, cast a lit line on the floor far below. The map's texels hold one
+// blocker or the other, so sm puts the line in umbra and the depth-edge test cannot reach the floor
+// (both layers lie far nearer than it); gapBetweenBlockers finds two blockers around the floor
+// point's own texel and srt traces the line (before it, every line pixel was missed).
+TEST(Selective, LightThroughGapsNarrowerThanATexelIsTraced) {
+  const float gap = 0.0015f;  // the gap's angle seen from the light, radians (tangent)
+  Mesh floor = namedMesh("floor"), near = namedMesh("near"), far = namedMesh("far");
+  mesh::addQuad(floor, {-3, 0, -3}, {3, 0, -3}, {3, 0, 3}, {-3, 0, 3}, {0, 1, 0});
+  mesh::addQuad(near, {-1.5f, 2, -1.5f}, {0, 2, -1.5f}, {0, 2, 1.5f}, {-1.5f, 2, 1.5f}, {0, 1, 0});  // 2 below the light
+  mesh::addQuad(far, {2.2f * gap, 1.8f, -1.5f}, {1.5f, 1.8f, -1.5f}, {1.5f, 1.8f, 1.5f}, {2.2f * gap, 1.8f, 1.5f}, {0, 1, 0});
+  const Scene scene = sceneOf({floor, near, far}, "gap");
+  const Camera camera{.eye = {0, 0.6f, 0.6f}, .target = {0, 0, 0}};
+  const Light light{.type = LightType::Disk, .position = {0, 4, 0}, .direction = {0, -1, 0}};
+  RenderSettings settings = settingsFor(256);
+  settings.shadowMap.resolution = 512;
+  Renderer renderer(validatedContext(), scene, settings);
+  const Frame reference = renderer.render("ref", camera, light);
+  const Frame srt = renderer.render("srt", camera, light);
+  ASSERT_LT(gap, 0.5f * renderer.frameData().shadow.texelWorld) << "the gap is narrower than half a texel";
+  const Frame sm = renderer.render("sm", camera, light);
+  std::size_t line = 0;  // floor pixels the gap lights
+  for (std::size_t i = 0; i < reference.visibility.size(); ++i) line += reference.covered[i] && reference.visibility[i] > 0.5f;
+  ASSERT_GT(line, 200u);
+  EXPECT_GT(wrong(sm, reference), 0.5 * double(line) / double(sm.visibility.size())) << "sm closes the gap";
+  EXPECT_GT(caughtOnlyBy(srt, reference, PIP_GAP), line / 2);
+  EXPECT_EQ(missedPixels(srt, reference), 0u);
+  EXPECT_EQ(wrong(srt, reference), 0.0);
+  expectValidationSilent();
+}
+
 // Shadow maps read as sampled images or from their storage-buffer copies (--shadow-reads): the
 // same texels, so every method that reads them gives the same answers bit for bit, hard and soft,
 // on one face (courtyard) and a cube (room), with the thin mask and the penumbra pyramid.

@@ -17,6 +17,9 @@ PN_BEGIN
                           // light straddles the receiver's tangent plane
 #define PIP_CONTACT 32u   // the map does not put the receiver in shadow, but another surface lies over it
                           // within the bias: one rising beside it, a step's foot, a strip on it
+#define PIP_GAP 64u       // the map puts the receiver in umbra, but the texels around its point hold
+                          // different blockers: light may pass through a gap between them narrower
+                          // than a texel (the dual of a thin triangle)
 
 // Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.
