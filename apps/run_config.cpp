@@ -122,6 +122,13 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
   app.add_option("--msm-maps", c.msmMaps, "Shadow maps (light samples) averaged by method msm")
       ->capture_default_str()->check(CLI::Range(1u, 256u));
+  app.add_flag("--shared-samples", c.sharedSamples,
+               "Every pixel uses the same light samples, the pattern method bitmask looks up, so that ref, frt and srt "
+               "see bitmask's samples (default: a pattern per pixel)");
+  app.add_option("--bitmask-res", c.bitmaskRes, "Method bitmask: texels per side of the receiver's hidden-samples map")
+      ->capture_default_str()->check(CLI::Range(16u, 4096u));
+  app.add_option("--bitmask-receiver", c.bitmaskReceiver,
+                 "Method bitmask: the planar mesh that receives its shadows (default: the largest planar mesh)");
   app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
@@ -256,6 +263,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset, reads};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
+  s.settings.sharedSamples = c.sharedSamples;
+  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
@@ -293,6 +302,8 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"shadow_map_res", s.settings.shadowMap.resolution},
           {"pcf_kernel", c.pcfKernel},
           {"msm_maps", s.settings.msmMaps},
+          {"shared_samples", s.settings.sharedSamples},
+          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receiver", s.settings.bitmask.receiver}}},
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"denoise", c.denoise},

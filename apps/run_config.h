@@ -31,6 +31,9 @@ struct RunConfig {
   std::uint32_t shadowMapRes = 2048;
   std::string pcfKernel = "3x3";
   std::uint32_t msmMaps = 4;  // shadow maps averaged by method msm
+  bool sharedSamples = false;      // every pixel uses the same light samples (bitmask's pattern)
+  std::uint32_t bitmaskRes = 512;  // method bitmask: hidden-samples map texels per side
+  std::string bitmaskReceiver;     // method bitmask: the receiver mesh (empty: the largest planar one)
   float depthBias = 1.0f, slopeBias = 0.0f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread

@@ -31,6 +31,9 @@ class Method {
   // Methods that look up the light's centre map (Renderer::recordShadowMap): the Renderer may fit
   // that map to the view first (RenderSettings::fitLightToView).
   virtual bool readsShadowMap() const { return false; }
+  // Methods whose pixels all use one light-sample pattern (GpuLight::sharedPattern): every method
+  // does with RenderSettings::sharedSamples.
+  virtual bool sharedSamplePattern() const { return false; }
 };
 
 std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names
@@ -43,5 +46,6 @@ std::unique_ptr<Method> makeMultiMapMethod();  // msm: average of settings.msmMa
 std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
 // srt (selective = true), frt; `tracer` overrides the settings' tracer (method ls: frt on "ls")
 std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer = {});
+std::unique_ptr<Method> makeBitmaskMethod();  // bitmask: visibility sampling on a planar receiver
 
 }  // namespace penumbra

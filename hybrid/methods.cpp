@@ -18,6 +18,7 @@ const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry(
       {"srt", [] { return makeTracedMethod(true); }},
       {"frt", [] { return makeTracedMethod(false); }},
       {"ls", [] { return makeTracedMethod(false, "ls"); }},  // frt on the line-space tracer
+      {"bitmask", [] { return makeBitmaskMethod(); }},
   };
   return methods;
 }

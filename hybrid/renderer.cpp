@@ -147,6 +147,24 @@ void Renderer::recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared
                      Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite);
 }
 
+void Renderer::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameStats& stats) {
+  if (!frameData_.traceInPlace) {  // the list holds what one storage binding can: a frame that flags more is refused
+    const std::uint64_t listed = job.count.download<shared::TraceCount>(1).front().count;
+    const std::uint64_t capacity = job.points.size() / sizeof(shared::ShadingPoint);
+    if (listed > capacity) {
+      throw InputError(std::to_string(listed) + " pixels to trace, more than the trace list's " + std::to_string(capacity) +
+                       " (one storage binding of this device); lower --res");
+    }
+    stats.pipPixels = listed;
+  }
+  const TraceReport report = tracer.finish(job);
+  if (report.hostMs > 0.0) stats.addPass("trace", report.hostMs);
+  stats.tracer = tracer.name();
+  stats.raysTraced = report.rays;
+  stats.nodeVisits = report.nodeVisits;
+  stats.triangleTests = report.triangleTests;
+}
+
 void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
   // Every tile's pixels, in rows of as many workgroups as the device dispatches (tracePointIndex).
   const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
@@ -213,18 +231,19 @@ void Renderer::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
   cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
 }
 
-void Renderer::prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp) {
+void Renderer::prepareFrame(const Camera& camera, const Light& light, const Method& method) {
   view_ = cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height));
   cameraPosition_ = camera.eye;
   frameData_ = {};
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
   frameData_.light.sampleFrame = frame_;
+  frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
   frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
   frameData_.height = settings_.height;
-  frameData_.spp = shared::lightSampleCount(frameData_.light, spp);
-  frameData_.shadowFilter = filter;
+  frameData_.spp = shared::lightSampleCount(frameData_.light, method.samplesPerPixel(settings_));
+  frameData_.shadowFilter = method.shadowFilter(settings_);
   compact_.describeList(frameData_);
   if (settings_.denoise.mode != DenoiseMode::Off && shared::isAreaLight(frameData_.light))
     frameData_.blockers = gpu::addressHalves(blockers_);
@@ -271,7 +290,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   std::unique_ptr<Method>& cached = methods_[methodName];
   if (!cached) cached = makeMethod(methodName);
   Method* method = cached.get();
-  prepareFrame(camera, light, method->shadowFilter(settings_), method->samplesPerPixel(settings_));
+  prepareFrame(camera, light, *method);
 
   Frame frame;
   frame.width = settings_.width;

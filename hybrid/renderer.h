@@ -15,6 +15,7 @@
 #include "hybrid/denoise_pass.h"
 #include "hybrid/frame_stats.h"
 #include "hybrid/shade_pass.h"
+#include "raster/bitmask_pass.h"
 #include "raster/corner_maps_pass.h"
 #include "raster/gbuffer_pass.h"
 #include "raster/light_fit_pass.h"
@@ -53,6 +54,10 @@ struct RenderSettings {
   bool fitLightToView = false;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
   DenoiseSettings denoise;           // srt/frt with an area light: the shadow denoiser (hybrid/denoise_pass.h)
+  // Every pixel uses the same light samples, the pattern method bitmask looks up (--shared-samples):
+  // the reference and the tracers then see bitmask's samples.
+  bool sharedSamples = false;
+  raster::BitmaskSettings bitmask;   // method bitmask: map resolution, receiver
 };
 
 // One rendered frame, read back to the host.
@@ -113,6 +118,9 @@ class Renderer {
   // The compacted points and where results go; inPlace: the G-buffer instead (sets
   // FrameData::traceInPlace for this frame).
   TraceJob traceJob(bool inPlace = false);
+  // After the submission that traced `job`: refuses a list that overflowed, collects the tracer's
+  // report into stats (pixels listed, rays, traversal counts, host time).
+  void finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameStats& stats);
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
 
@@ -132,7 +140,7 @@ class Renderer {
  private:
   // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
   void recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count);
-  void prepareFrame(const Camera& camera, const Light& light, std::uint32_t filter, std::uint32_t spp);
+  void prepareFrame(const Camera& camera, const Light& light, const Method& method);
   // Renders the G-buffer in a submission of its own and narrows frameData_.shadow to what it sees
   // (when settings_.fitLightToView applies to this light).
   void fitLightToView(FrameStats& stats);

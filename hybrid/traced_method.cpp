@@ -72,21 +72,7 @@ class TracedMethod final : public Method {
       tracer.record(cmd, job);
       r.timer().end(cmd);
     });
-    if (!inPlace) {  // the list holds what one storage binding can: a frame that flags more is refused
-      const std::uint64_t listed = job.count.download<shared::TraceCount>(1).front().count;
-      const std::uint64_t capacity = job.points.size() / sizeof(shared::ShadingPoint);
-      if (listed > capacity) {
-        throw InputError(std::to_string(listed) + " pixels to trace, more than the trace list's " + std::to_string(capacity) +
-                         " (one storage binding of this device); lower --res");
-      }
-      stats.pipPixels = listed;
-    }
-    const TraceReport report = tracer.finish(job);
-    if (report.hostMs > 0.0) stats.addPass("trace", report.hostMs);
-    stats.tracer = tracer.name();
-    stats.raysTraced = report.rays;
-    stats.nodeVisits = report.nodeVisits;
-    stats.triangleTests = report.triangleTests;
+    r.finishTrace(tracer, job, stats);
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, job, selective_, stats);
     if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
   }

@@ -23,8 +23,14 @@ struct GpuLight {
   float cosHalfAngle;  // spot cone; -1 for other lights
   float rayEpsilon;    // smallest shadow-ray origin offset along the normal, world units (shadowRayOrigin)
   uint sampleFrame;    // frame of a sequence: rotates every pixel's samples (lightSampleOffset); 0 = unrotated
-  uint pad0, pad1, pad2;
+  uint sharedPattern;  // 1: every pixel uses the same samples (those of SHARED_PATTERN_SEED: method bitmask's)
+  uint pad1, pad2;
 };
+
+// The seed of the one pattern every pixel uses when GpuLight::sharedPattern is set: method bitmask
+// looks its samples up in a table, so it cannot use a pattern per pixel; the reference and the
+// tracers use this one too when asked (--shared-samples), so that comparisons measure the method.
+#define SHARED_PATTERN_SEED 0x5eedu
 
 PN_FN uint pcgHash(uint v) {
   uint state = v * 747796405u + 2891336453u;
@@ -57,19 +63,14 @@ PN_FN vec2 lightSampleOffset(uint frame) {
   return vec2(hashToUnit(frame * 3242174889u), hashToUnit(frame * 2447445414u));
 }
 
-// The light point that sample `s` of `spp` for `pixel` aims at (the centre for non-area lights),
-// in the light's sampleFrame.
-PN_FN vec3 lightSamplePoint(GpuLight light, uint pixel, uint s, uint spp) {
-  vec3 centre = vec3(light.position);
-  if (!isAreaLight(light)) return centre;
-  vec2 u = stratifiedSample(pixel, s, spp) + lightSampleOffset(light.sampleFrame);
+// Where sample `s` of `spp` for `pixel` lies on an area light, in units of its size from its
+// centre along (tangent, cross(direction, tangent)): in [-1/2, 1/2]^2, in the light's sampleFrame.
+PN_FN vec2 lightSampleOnLight(GpuLight light, uint pixel, uint s, uint spp) {
+  vec2 u = stratifiedSample(light.sharedPattern != 0u ? SHARED_PATTERN_SEED : pixel, s, spp) +
+           lightSampleOffset(light.sampleFrame);
   if (u.x >= 1.0f) u.x -= 1.0f;
   if (u.y >= 1.0f) u.y -= 1.0f;
-  vec3 t = vec3(light.tangent);
-  vec3 b = cross(vec3(light.direction), t);
-  if (light.type == LIGHT_RECT) {
-    return centre + light.size * ((u.x - 0.5f) * t + (u.y - 0.5f) * b);
-  }
+  if (light.type == LIGHT_RECT) return u - 0.5f;
   // Disk: Shirley–Chiu concentric mapping keeps the strata compact.
   float a = 2.0f * u.x - 1.0f;
   float c = 2.0f * u.y - 1.0f;
@@ -82,7 +83,17 @@ PN_FN vec3 lightSamplePoint(GpuLight light, uint pixel, uint s, uint spp) {
     r = c;
     phi = 1.57079633f - 0.78539816f * (a / c);
   }
-  return centre + (0.5f * light.size * r) * (cos(phi) * t + sin(phi) * b);
+  return (0.5f * r) * vec2(cos(phi), sin(phi));
+}
+
+// The light point that sample `s` of `spp` for `pixel` aims at (the centre for non-area lights).
+PN_FN vec3 lightSamplePoint(GpuLight light, uint pixel, uint s, uint spp) {
+  vec3 centre = vec3(light.position);
+  if (!isAreaLight(light)) return centre;
+  vec2 q = lightSampleOnLight(light, pixel, s, spp);
+  vec3 t = vec3(light.tangent);
+  vec3 b = cross(vec3(light.direction), t);
+  return centre + light.size * (q.x * t + q.y * b);
 }
 
 // Unit direction from p towards the light point q (towards the light for directional).

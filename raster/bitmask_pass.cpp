@@ -1,0 +1,150 @@
+#include "raster/bitmask_pass.h"
+
+#include <stdexcept>
+
+#include "bitmask_fit_comp.h"
+#include "bitmask_hidden_frag.h"
+#include "bitmask_hidden_geom.h"
+#include "bitmask_hidden_vert.h"
+#include "bitmask_resolve_comp.h"
+#include "bitmask_table_comp.h"
+
+namespace penumbra::raster {
+namespace {
+
+static_assert(sizeof(shared::BitmaskFrame) == 144, "BitmaskFrame must match std430 in shared/bitmask.h");
+
+constexpr gpu::Binding kTableBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
+                                          {1, vk::DescriptorType::eStorageBuffer},
+                                          {2, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kFitBindings[] = {{0, vk::DescriptorType::eStorageImage},
+                                        {1, vk::DescriptorType::eStorageImage},
+                                        {3, vk::DescriptorType::eStorageBuffer},
+                                        {4, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kResolveBindings[] = {
+    {0, vk::DescriptorType::eStorageImage},  {1, vk::DescriptorType::eStorageImage},
+    {2, vk::DescriptorType::eStorageBuffer}, {3, vk::DescriptorType::eStorageBuffer},
+    {4, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer},
+    {6, vk::DescriptorType::eStorageBuffer}};
+
+const gpu::Context& checked(const gpu::Context& context) {
+  const auto features = context.physicalDevice().getFeatures();
+  if (!features.geometryShader || !features.fragmentStoresAndAtomics) {
+    throw std::runtime_error("method bitmask needs geometry shaders and fragment-shader atomics, which Vulkan device '" +
+                             context.deviceName() + "' lacks; use another method or lavapipe (mesa-vulkan-drivers)");
+  }
+  return context;
+}
+
+gpu::GraphicsPipelineDesc hiddenDesc() {
+  gpu::GraphicsPipelineDesc d;
+  d.vertexSpirv = bitmask_hidden_vert;
+  d.geometrySpirv = bitmask_hidden_geom;
+  d.fragmentSpirv = bitmask_hidden_frag;
+  d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
+  d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+  d.depthFormat = vk::Format::eUndefined;  // no attachments: fragments OR into a storage buffer
+  d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {2, vk::DescriptorType::eStorageBuffer},
+                {3, vk::DescriptorType::eStorageBuffer}};
+  d.name = "bitmask hidden-samples pipeline";
+  return d;
+}
+
+constexpr auto kStorage = vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst;
+
+}  // namespace
+
+BitmaskPass::BitmaskPass(const gpu::Context& context, std::uint32_t resolution)
+    : context_(checked(context)),
+      resolution_(resolution),
+      tablePipeline_(context, bitmask_table_comp, kTableBindings, 0, "bitmask Hough table"),
+      fitPipeline_(context, bitmask_fit_comp, kFitBindings, sizeof(std::uint32_t), "bitmask map fit"),
+      hiddenPipeline_(context, hiddenDesc()),
+      resolvePipeline_(context, bitmask_resolve_comp, kResolveBindings, 0, "bitmask resolve"),
+      frame_(context, sizeof(shared::BitmaskFrame), kStorage, "bitmask frame"),
+      light_(context, sizeof(shared::GpuLight), kStorage, "bitmask light"),
+      bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds") {}
+
+vk::DeviceSize BitmaskPass::bytes() const {
+  return frame_.size() + light_.size() + bounds_.size() + (table_ ? table_->size() : 0) + (hidden_ ? hidden_->size() : 0);
+}
+
+void BitmaskPass::recordTable(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light,
+                              const shared::BitmaskFrame& frame) {
+  if (frame.resolution != resolution_) throw std::logic_error("BitmaskPass: the frame's resolution is not the pass's");
+  if (words_ != frame.words) {
+    words_ = frame.words;
+    table_.emplace(context_, vk::DeviceSize(BITMASK_THETA_BINS) * BITMASK_R_BINS * words_ * 4, kStorage, "bitmask Hough table");
+    hidden_.emplace(context_, vk::DeviceSize(resolution_) * resolution_ * words_ * 4, kStorage, "bitmask hidden samples");
+    built_.reset();
+  }
+  // The previous frame's passes may still read these host-written buffers: submitAndWait ran them.
+  frame_.upload(std::span<const shared::BitmaskFrame>(&frame, 1));
+  light_.upload(std::span<const shared::GpuLight>(&light, 1));
+  const TableKey key{light.type, frame.samples, light.sampleFrame};
+  reused_ = built_ == key;
+  if (!reused_) {
+    tablePipeline_.bind(cmd, gpu::Descriptors{}.buffer(0, light_).buffer(1, frame_).buffer(2, *table_));
+    const std::uint32_t groups = (BITMASK_THETA_BINS * BITMASK_R_BINS * words_ + 63) / 64;
+    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
+    cmd.dispatch(gx, gy, 1);
+    built_ = key;
+  }
+  gpu::computeToComputeAndHost(cmd);
+}
+
+void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
+                         const gpu::Buffer& frameData, const shared::GpuLight& light,
+                         const shared::BitmaskFrame& frame, const gpu::Buffer& visibility,
+                         const gpu::Buffer& traceFlags) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  recordTable(cmd, light, frame);
+  // The map fitted to the receiver's visible part (bitmask_fit.comp), on the GPU: the frame buffer
+  // the later passes read holds the fitted rectangle.
+  const std::uint32_t empty[4] = {0x7f7fffffu, 0x7f7fffffu, 0u, 0u};  // min at FLT_MAX, max at 0
+  cmd.updateBuffer<std::uint32_t>(bounds_.handle(), 0, empty);
+  gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  fitPipeline_.bind(cmd, gpu::Descriptors{}
+                             .storageImage(0, gbuffer.position().view())
+                             .storageImage(1, gbuffer.normal().view())
+                             .buffer(3, frame_)
+                             .buffer(4, bounds_));
+  fitPipeline_.pushConstants(cmd, 0u);
+  cmd.dispatch((gbuffer.width() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE,
+               (gbuffer.height() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE, 1);
+  gpu::memoryBarrier(cmd, Stage::eComputeShader, Access::eShaderStorageWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  fitPipeline_.pushConstants(cmd, 1u);
+  cmd.dispatch(1, 1, 1);
+  cmd.fillBuffer(hidden_->handle(), 0, VK_WHOLE_SIZE, 0u);
+  gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
+                     Stage::eGeometryShader | Stage::eFragmentShader | Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+
+  const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
+  cmd.beginRendering({.renderArea = area, .layerCount = 1});
+  cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
+  cmd.setScissor(0, area);
+  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, *table_).buffer(3, *hidden_));
+  geometry.bind(cmd);
+  cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
+  cmd.endRendering();
+  gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead);
+
+  resolvePipeline_.bind(cmd, gpu::Descriptors{}
+                                 .storageImage(0, gbuffer.position().view())
+                                 .storageImage(1, gbuffer.normal().view())
+                                 .buffer(2, frameData)
+                                 .buffer(3, frame_)
+                                 .buffer(4, *hidden_)
+                                 .buffer(5, visibility)
+                                 .buffer(6, traceFlags));
+  cmd.dispatch((gbuffer.width() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE,
+               (gbuffer.height() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE, 1);
+  gpu::computeToComputeAndHost(cmd);
+}
+
+}  // namespace penumbra::raster

@@ -1,0 +1,70 @@
+// Bitmask visibility sampling (Eisemann & Décoret 2007): the receiver plane, the light and the
+// Hough table as raster/bitmask_pass and bitmask_{hidden,resolve} see them, one source for the
+// shaders and the C++ side (which builds the table and checks it).
+#ifndef PENUMBRA_SHARED_BITMASK_H
+#define PENUMBRA_SHARED_BITMASK_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+// The Hough table: for each oriented line through the light's normalized square [-1/2, 1/2]^2,
+// binned by its direction theta in [-pi, pi) and its signed distance r from the centre in
+// [-BITMASK_R_MAX, BITMASK_R_MAX], the samples strictly left of it, BITMASK words of 32 bits.
+#define BITMASK_THETA_BINS 1024u
+#define BITMASK_R_BINS 512u
+#define BITMASK_R_MAX 0.70710678f  // half the square's diagonal: lines farther off miss it
+#define BITMASK_MAX_SAMPLES 1024u  // 32 words: the hidden-samples map of a 512^2 receiver is 32 MiB
+#define BITMASK_GROUP_SIZE 16u     // bitmask_resolve.comp: 16x16 pixels per workgroup
+
+// std430, 144 bytes: one receiver plane and the light, read by every bitmask shader.
+struct BitmaskFrame {
+  vec4 plane;        // receiver plane: xyz unit normal on the light's side, w: -dot(normal, a point on it)
+  vec4 origin;       // xyz: world point at the map's (0, 0) corner
+  vec4 axisU;        // xyz: unit world direction of the map's x; w: the map's world extent along it
+  vec4 axisV;        // ... of its y
+  vec4 lightCentre;  // xyz; w: light size (rect side, disk diameter)
+  vec4 lightT;       // xyz: the light's first axis (GpuLight tangent); w: height of its lowest corner over the plane
+  vec4 lightB;       // xyz: cross(direction, tangent); w: casters lie between the plane and the light, this far off both
+  uint words;        // 32-bit words per hidden-samples texel: ceil(samples / 32)
+  uint samples;
+  uint resolution;   // the map's texels per side
+  uint pad0;
+  vec4 onPlane;      // x: a pixel lies on the receiver within this distance of the plane; y: min cos to its normal
+};
+
+// The oriented line from a to b (a != b) in Hough coordinates: its direction theta in (-pi, pi]
+// and its signed distance r from the centre (r < -R: every sample is left of it; r > R: none).
+PN_FN vec2 houghLine(vec2 a, vec2 b) {
+  vec2 d = b - a;
+  return vec2(atan(d.y, d.x), dot(a, vec2(-d.y, d.x)) / length(d));
+}
+
+// Index of the Hough bin holding a line (theta, r), r clamped to the table.
+PN_FN uint houghBin(vec2 line) {
+  uint ti = uint(floor((line.x + 3.14159265f) * (float(BITMASK_THETA_BINS) / 6.28318531f))) % BITMASK_THETA_BINS;
+  float rf = (line.y + BITMASK_R_MAX) * (float(BITMASK_R_BINS) / (2.0f * BITMASK_R_MAX));
+  return ti * BITMASK_R_BINS + uint(clamp(floor(rf), 0.0f, float(BITMASK_R_BINS - 1u)));
+}
+
+// The line at the centre of bin (ti, ri): its left normal and offset; sample q is left of it when
+// dot(q, left) > r.
+PN_FN vec3 houghBinLine(uint ti, uint ri) {
+  float theta = -3.14159265f + (float(ti) + 0.5f) * (6.28318531f / float(BITMASK_THETA_BINS));
+  float r = -BITMASK_R_MAX + (float(ri) + 0.5f) * (2.0f * BITMASK_R_MAX / float(BITMASK_R_BINS));
+  return vec3(-sin(theta), cos(theta), r);
+}
+
+// Point p on the receiver's map: [0, 1)^2 inside it.
+PN_FN vec2 receiverUv(BitmaskFrame f, vec3 p) {
+  vec3 d = p - vec3(f.origin);
+  return vec2(dot(d, vec3(f.axisU)) / f.axisU.w, dot(d, vec3(f.axisV)) / f.axisV.w);
+}
+
+// Whether surface point p (normal n, map coordinates uv) lies on the receiver: within onPlane.x
+// of its plane, facing its normal, inside its map.
+PN_FN bool onReceiver(BitmaskFrame f, vec3 p, vec3 n, vec2 uv) {
+  return abs(dot(vec3(f.plane), p) + f.plane.w) <= f.onPlane.x && dot(n, vec3(f.plane)) >= f.onPlane.y && uv.x >= 0.0f &&
+         uv.y >= 0.0f && uv.x < 1.0f && uv.y < 1.0f;
+}
+
+PN_END
+#endif
