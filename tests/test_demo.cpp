@@ -367,6 +367,20 @@ TEST_F(DemoTest, MemoryStaysFlatOver2000Frames) {
   EXPECT_LE(after2000 - after100, 4e6);
 }
 
+// The demo renders method bitmask (soft shadows on the courtyard's ground) as the CLI does.
+TEST_F(DemoTest, BitmaskRendersAsTheCliDoes) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const auto r = demo("--scene builtin:courtyard --method bitmask --light-size 0.1 --spp 32 --res 96x96 --frames 2 "
+                      "--hide-ui --validate --screenshot " + path("bitmask.png") + " --save-view " + path("view.json"),
+                      x.display());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto cli = run("render --view " + path("view.json") + " --method bitmask --spp 32 --out " + path("cli"));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  const auto [worst, beyond] = compareImages(readPng(dir_ / "bitmask.png"), readPng(dir_ / "cli" / "bitmask.png"), 1);
+  EXPECT_LE(worst, 1) << beyond << " pixels differ by more";
+}
+
 TEST_F(DemoTest, BadInputFailsWithAClearMessage) {
   auto unknown = demo("--method nope --frames 1", "");
   EXPECT_NE(unknown.exitCode, 0);

@@ -91,6 +91,7 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
   if (!script.statsCsv.empty()) csv.emplace(script.statsCsv);
   gpu::Context context({.validate = config.validate});
   DemoSession session(context, std::move(setup), method, !saveView.empty());
+  std::string renderedMethod = method;  // the last method that rendered a frame
   Presenter presenter;
   UiState ui;
   ui.overlay = startOverlay;
@@ -136,12 +137,17 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
 
     try {
       session.render();
-    } catch (const InputError& e) {  // e.g. a tracer the UI switched to refused this scene
+      renderedMethod = session.method();
+    } catch (const InputError& e) {  // e.g. a method or tracer the UI switched to refused this scene or light
       if (scripted || frame == 0) throw;
       ui.error = e.what();
-      RenderSettings settings = session.settings();
-      settings.tracer = "bvh";
-      session.setSettings(settings);
+      if (session.method() != renderedMethod) {
+        session.setMethod(renderedMethod);  // bitmask under a point light: back to the method that worked
+      } else {
+        RenderSettings settings = session.settings();
+        settings.tracer = "bvh";
+        session.setSettings(settings);
+      }
       session.render();
     }
     // The reference: every frame when its temporal change is asked for or a scripted run shows
