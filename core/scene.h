@@ -114,4 +114,8 @@ void cleanScene(Scene& scene, const std::string& source);
 
 const char* lightTypeName(LightType type);
 
+// The distance from p to the nearest point of any of the scene's triangles (infinity without any):
+// how far a point light's cube map can set its near plane.
+float distanceToNearestTriangle(const Scene& scene, const glm::vec3& p);
+
 }  // namespace penumbra

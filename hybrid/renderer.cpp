@@ -239,6 +239,13 @@ void Renderer::prepareFrame(const Camera& camera, const Light& light, const Meth
   frameData_.light.sampleFrame = frame_;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
   frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
+  if (frameData_.shadow.kind == SHADOW_CUBE) {  // its near plane out to the nearest geometry (depth precision)
+    const glm::vec3 at(frameData_.light.position);
+    if (!clearance_ || clearance_->at != at || clearance_->sceneVersion != sceneVersion_) {
+      clearance_ = Clearance{at, sceneVersion_, distanceToNearestTriangle(scene_, at)};
+    }
+    frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap, false, clearance_->distance);
+  }
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
   frameData_.height = settings_.height;

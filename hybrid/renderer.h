@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -156,6 +157,12 @@ class Renderer {
   raster::PipClassifyPass classify_;
   CompactPass compact_;
   raster::LightFitPass lightFit_;
+  struct Clearance {  // the light's distance to the nearest triangle, for its cube map's near plane
+    glm::vec3 at;
+    std::uint64_t sceneVersion;
+    float distance;
+  };
+  std::optional<Clearance> clearance_;
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::map<std::string, std::unique_ptr<Method>> methods_;  // one per name, kept: they may own GPU objects
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;

@@ -40,8 +40,13 @@ inline const gpu::Buffer* texelCopy(const gpu::Buffer& texels, const gpu::Image&
 
 // Projection(s) for `light` covering `bounds`; pure math, no GPU. forceCube: six faces even where
 // one would do (maps that must share one image layout).
+// A cube map's near plane without a clearance, as a fraction of its far plane.
+constexpr float kCubeNearFraction = 1e-4f;
+
+// clearance: the distance from the light to the nearest geometry (distanceToNearestTriangle), or 0
+// when unknown: a cube map's near plane goes out to half of it (at most 1% of the far plane).
 shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings,
-                                        bool forceCube = false);
+                                        bool forceCube = false, float clearance = 0.0f);
 
 class ShadowMapPass {
  public:

@@ -385,6 +385,27 @@ TEST(Selective, LayersAHairAboveTheReceiverAreTraced) {
   expectValidationSilent();
 }
 
+// Depth precision under a point light's cube map (issue 17, found in the room at 512^2): with the
+// near plane at 1e-4 of the far one, 4 float steps of the stored depth (the layer test's
+// tolerance) at the room's walls spanned about a texel, and hid a wall 0.86 texels over a floor
+// point. The near plane now goes out to half the light's clearance from the geometry: at the far
+// plane 4 steps stay under the layer tolerance (PIP_LAYER_TOLERANCE of a texel).
+TEST(Selective, CubeMapDepthStepsStayBelowTheLayerTolerance) {
+  SceneRun run("builtin:room", settingsFor(64));
+  run.render("srt");
+  const shared::ShadowMapInfo& info = run.renderer->frameData().shadow;
+  ASSERT_EQ(info.kind, SHADOW_CUBE);
+  const float w = info.farPlane, near = info.nearPlane, far = info.farPlane;
+  const float raw = far * (w - near) / (w * (far - near));  // NDC depth at w
+  const float step = std::nextafter(raw, 2.0f) - raw;
+  const float unitsPerNdc = (far - near) * w * w / (far * near);
+  const float texel = info.texelWorld * w;
+  std::cout << "room cube map: near " << near << ", 4 depth steps at the far plane " << 4.0f * step * unitsPerNdc / texel
+            << " texels\n";
+  EXPECT_LT(4.0f * step * unitsPerNdc, PIP_LAYER_TOLERANCE * texel);
+  expectValidationSilent();
+}
+
 // Light through a gap narrower than a texel (issue 17, found between the foliage's leaves): two
 // blockers at nearly the same distance from the light, side by side with a gap of a third of a
 // texel between their edges, cast a lit line on the floor far below. The map's texels hold one
