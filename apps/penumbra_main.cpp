@@ -14,6 +14,7 @@
 #include "apps/report.h"
 #include "apps/run_config.h"
 #include "apps/tune_command.h"
+#include "apps/visibility_command.h"
 #include "core/image_io.h"
 #include "core/metrics.h"
 #include "core/miss_explainer.h"
@@ -138,6 +139,7 @@ int main(int argc, char** argv) {
   addRunOptions(*compare, config);
   BenchCommand bench(app);
   TuneCommand tune(app);
+  VisibilityCommand visibility(app);
 
   try {
     app.parse(argc, argv);
@@ -153,6 +155,7 @@ int main(int argc, char** argv) {
     if (render->parsed()) return runCommand(config, {method}, false);
     if (bench.parsed()) return bench.run();
     if (tune.parsed()) return tune.run();
+    if (visibility.parsed()) return visibility.run();
     return runCommand(config, splitList(methodList), true);
   } catch (const vk::OutOfDeviceMemoryError&) {  // beyond what the estimate foresaw
     return outOfMemory("device memory");

@@ -168,6 +168,23 @@ Camera parseCamera(const std::string& spec, const glm::dvec3& origin) {
   }
 }
 
+Patch parsePatch(const std::string& spec, const glm::dvec3& origin) {
+  try {
+    const std::vector<std::string_view> parts = split(spec, ':');
+    if (parts.size() != 3) throw SpecProblem{"needs 3 ':'-separated parts, got " + std::to_string(parts.size())};
+    Patch patch;
+    patch.corner = toScene(parseVec3(parts[0], "corner"), origin, "corner");
+    patch.u = glm::vec3(parseVec3(parts[1], "first edge"));
+    patch.v = glm::vec3(parseVec3(parts[2], "second edge"));
+    const float lu = glm::length(patch.u), lv = glm::length(patch.v);
+    if (!(lu > 0.0f && lv > 0.0f)) throw SpecProblem{"an edge has zero length"};
+    if (std::abs(glm::dot(patch.u, patch.v)) > 1e-3f * lu * lv) throw SpecProblem{"the edges are not perpendicular"};
+    return patch;
+  } catch (const SpecProblem& problem) {
+    throw InputError("patch '" + spec + "': " + problem.what + "; use 'x,y,z:ux,uy,uz:vx,vy,vz' (a corner and two perpendicular edges)");
+  }
+}
+
 std::string formatCamera(const Camera& camera, const glm::dvec3& origin) {
   return formatVec3(camera.eye, origin) + ":" + formatVec3(camera.target, origin) + ":" + formatNumber(camera.fovYDeg);
 }

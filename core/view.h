@@ -22,6 +22,13 @@ std::string formatCamera(const Camera& camera, const glm::dvec3& origin = glm::d
 Light parseLight(const std::string& spec, const glm::dvec3& origin = glm::dvec3(0.0));
 std::string formatLight(const Light& light, const glm::dvec3& origin = glm::dvec3(0.0));
 
+// A rectangle (patch) for patch-to-patch visibility: corner + s u + t v, s and t in [0, 1].
+// Spec: "x,y,z:ux,uy,uz:vx,vy,vz" (the corner in world coordinates, u and v its perpendicular edges).
+struct Patch {
+  glm::vec3 corner{0.0f}, u{0.0f}, v{0.0f};
+};
+Patch parsePatch(const std::string& spec, const glm::dvec3& origin = glm::dvec3(0.0));  // InputError on malformed text
+
 // Three-quarter view that frames the whole bounds.
 Camera defaultCamera(const Bounds& bounds);
 // A disk light (size 0 = point-like) above and to the side of the bounds, facing their centre.

@@ -89,7 +89,7 @@ class BitmaskMethod final : public Method {
     f.samples = spp;
     f.words = (spp + 31) / 32;
     f.resolution = r.settings().bitmask.resolution;
-    f.onPlane = glm::vec4(1e-4f * radius, 0.99f, 0.0f, 0.0f);
+    f.onPlane = glm::vec4(1e-4f * radius, 0.99f, light.size, 0.0f);
     return f;
   }
 

@@ -93,15 +93,9 @@ void BitmaskPass::recordTable(const vk::raii::CommandBuffer& cmd, const shared::
   gpu::computeToComputeAndHost(cmd);
 }
 
-void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
-                         const gpu::Buffer& frameData, const shared::GpuLight& light,
-                         const shared::BitmaskFrame& frame, const gpu::Buffer& visibility,
-                         const gpu::Buffer& traceFlags) {
+void BitmaskPass::recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer) {
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
-  recordTable(cmd, light, frame);
-  // The map fitted to the receiver's visible part (bitmask_fit.comp), on the GPU: the frame buffer
-  // the later passes read holds the fitted rectangle.
   const std::uint32_t empty[4] = {0x7f7fffffu, 0x7f7fffffu, 0u, 0u};  // min at FLT_MAX, max at 0
   cmd.updateBuffer<std::uint32_t>(bounds_.handle(), 0, empty);
   gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
@@ -118,11 +112,15 @@ void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
   fitPipeline_.pushConstants(cmd, 1u);
   cmd.dispatch(1, 1, 1);
+}
+
+void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  if (!hidden_) throw std::logic_error("BitmaskPass: recordHidden before recordTable");
   cmd.fillBuffer(hidden_->handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
-                     Stage::eGeometryShader | Stage::eFragmentShader | Stage::eComputeShader,
-                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
-
+                     Stage::eGeometryShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
   const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
   cmd.beginRendering({.renderArea = area, .layerCount = 1});
   cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
@@ -131,9 +129,19 @@ void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   geometry.bind(cmd);
   cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
   cmd.endRendering();
-  gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite, Stage::eComputeShader,
-                     Access::eShaderStorageRead);
+  gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite, Stage::eComputeShader | Stage::eHost,
+                     Access::eShaderStorageRead | Access::eHostRead);
+}
 
+void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
+                         const gpu::Buffer& frameData, const shared::GpuLight& light,
+                         const shared::BitmaskFrame& frame, const gpu::Buffer& visibility,
+                         const gpu::Buffer& traceFlags) {
+  recordTable(cmd, light, frame);
+  // The map fitted to the receiver's visible part, on the GPU: the frame buffer the later passes
+  // read holds the fitted rectangle.
+  recordFit(cmd, gbuffer);
+  recordHidden(cmd, geometry);
   resolvePipeline_.bind(cmd, gpu::Descriptors{}
                                  .storageImage(0, gbuffer.position().view())
                                  .storageImage(1, gbuffer.normal().view())

@@ -34,6 +34,9 @@ class BitmaskPass {
   // Uploads the frame and the light and builds the Hough table for them unless the last one holds
   // (same light type, samples and sample frame); record() starts with it.
   void recordTable(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light, const shared::BitmaskFrame& frame);
+  // After recordTable: the hidden-samples map of the uploaded frame's receiver rectangle as it is
+  // (texel centres at its (i + 1/2) / resolution points), left for compute and host reads.
+  void recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry);
   // The hidden-samples map of `frame`'s receiver under `light` (frame.samples, frame.words set),
   // then the resolve into visibility and traceFlags. `frameData`: the renderer's FrameData.
   void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
@@ -45,6 +48,9 @@ class BitmaskPass {
   bool tableReused() const { return reused_; }
 
  private:
+  // The map's rectangle narrowed to the receiver pixels of the G-buffer (bitmask_fit.comp).
+  void recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer);
+
   const gpu::Context& context_;
   std::uint32_t resolution_;
   gpu::ComputePipeline tablePipeline_;

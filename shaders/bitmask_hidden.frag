@@ -59,7 +59,7 @@ void main() {
   vec3 cs[4] = vec3[4](c0, c1, c2, c3);
   for (uint i = 0u; i < 4u; ++i) {
     vec3 on = x + (cs[i] - x) / (dot(direction, cs[i] - x) / toLight);
-    l[i] = vec2(dot(on - centre, t), dot(on - centre, b)) / frame.lightCentre.w;
+    l[i] = vec2(dot(on - centre, t), dot(on - centre, b)) / vec2(frame.lightCentre.w, frame.onPlane.z);
   }
   float area = 0.0;  // twice the signed area (shoelace)
   for (uint i = 0u; i < corners; ++i) {
@@ -71,10 +71,19 @@ void main() {
   bool all[4];
   for (uint i = 0u; i < corners; ++i) {
     vec2 from = l[i], to = l[(i + 1u) % corners];
-    vec2 line = area > 0.0 ? houghLine(from, to) : houghLine(to, from);  // interior on the left
-    if (line.y >= BITMASK_R_MAX) return;  // the caster's shadow misses the light
-    all[i] = line.y <= -BITMASK_R_MAX;
-    bins[i] = houghBin(line);
+    if (area < 0.0) {  // interior on the left
+      vec2 swap = from;
+      from = to;
+      to = swap;
+    }
+    // Binned from its endpoints in a fixed order (see houghOpposite): an edge shared with a
+    // neighbouring triangle gets the exact complement of that triangle's mask.
+    bool reversed = from.x > to.x || (from.x == to.x && from.y > to.y);
+    vec2 line = reversed ? houghLine(to, from) : houghLine(from, to);
+    float r = reversed ? -line.y : line.y;
+    if (r >= BITMASK_R_MAX) return;  // the caster's shadow misses the light
+    all[i] = r <= -BITMASK_R_MAX;
+    bins[i] = reversed ? houghOpposite(houghBin(line)) : houghBin(line);
   }
   uint words = frame.words;
   uint texel = (uint(gl_FragCoord.y) * res + uint(gl_FragCoord.x)) * words;

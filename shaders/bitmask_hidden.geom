@@ -30,10 +30,10 @@ vec2 onMap(vec3 x) {
 
 void emitRegion(vec3 a, vec3 b, vec3 c) {
   vec2 lo = vec2(1e30), hi = vec2(-1e30);
-  float halfSize = 0.5 * frame.lightCentre.w;
+  vec2 halfSize = 0.5 * vec2(frame.lightCentre.w, frame.onPlane.z);
   for (int i = 0; i < 4; ++i) {
-    vec3 corner = frame.lightCentre.xyz + ((i & 1) != 0 ? halfSize : -halfSize) * frame.lightT.xyz +
-                  ((i & 2) != 0 ? halfSize : -halfSize) * frame.lightB.xyz;
+    vec3 corner = frame.lightCentre.xyz + ((i & 1) != 0 ? halfSize.x : -halfSize.x) * frame.lightT.xyz +
+                  ((i & 2) != 0 ? halfSize.y : -halfSize.y) * frame.lightB.xyz;
     float hc = height(corner);
     // v seen from the corner, on the plane: 0 < height(v) < hc after clipping
     vec2 pa = onMap(corner + (a - corner) * (hc / (hc - height(a))));

@@ -16,13 +16,17 @@ void main() {
   uint words = frame.words;
   if (index >= BITMASK_THETA_BINS * BITMASK_R_BINS * words) return;
   uint bin = index / words, word = index % words;
-  vec3 line = houghBinLine(bin / BITMASK_R_BINS, bin % BITMASK_R_BINS);
-  uint bits = 0u;
+  // The second half of the directions: the complement of the opposite bin's samples (houghOpposite).
+  bool opposite = bin / BITMASK_R_BINS >= BITMASK_THETA_BINS / 2u;
+  uint from = opposite ? houghOpposite(bin) : bin;
+  vec3 line = houghBinLine(from / BITMASK_R_BINS, from % BITMASK_R_BINS);
+  uint bits = 0u, valid = 0u;
   for (uint k = 0u; k < 32u; ++k) {
     uint s = word * 32u + k;
     if (s >= frame.samples) break;
     vec2 q = lightSampleOnLight(light, 0u, s, frame.samples);
     if (dot(q, line.xy) > line.z) bits |= 1u << k;
+    valid |= 1u << k;
   }
-  table[index] = bits;
+  table[index] = opposite ? ~bits & valid : bits;
 }

@@ -10,14 +10,18 @@
 #include "core/gpu_light.h"
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
+#include "hybrid/patch_visibility.h"
 #include "raster/bitmask_pass.h"
+#include "tests/embree_rays.h"
 #include "tests/mesh_checks.h"
 #include "tests/render_fixture.h"
 
 namespace penumbra::test {
 namespace {
 
-// Every bin's mask is the set of samples left of the bin's centre line; and a line binned by
+// Every bin's mask is the set of samples left of the bin's centre line (a sample within float
+// rounding of it may go either way: the second half of the directions holds the complement of the
+// first, houghOpposite); and a line binned by
 // houghBin keeps every sample farther from it than the bin's quantization on its own side.
 TEST(Bitmask, HoughTableMatchesLeftOfLineTests) {
   gpu::Context& context = validatedContext();
@@ -41,6 +45,7 @@ TEST(Bitmask, HoughTableMatchesLeftOfLineTests) {
         const glm::vec3 line = shared::houghBinLine(bin / BITMASK_R_BINS, bin % BITMASK_R_BINS);
         for (std::uint32_t s = 0; s < frame.words * 32; ++s) {
           const bool set = (table[std::size_t(bin) * frame.words + s / 32] >> (s % 32)) & 1u;
+          if (s < samples && std::abs(glm::dot(q[s], glm::vec2(line)) - line.z) < 1e-5f) continue;  // on the line (float)
           wrongBits += set != (s < samples && glm::dot(q[s], glm::vec2(line)) > line.z);
         }
       }
@@ -182,6 +187,57 @@ TEST(Bitmask, BadInputIsRefused) {
   settings.bitmask.receiver.clear();
   SceneRun noPlane(std::move(boxOnly), settings);
   EXPECT_THROW(noPlane.renderer->render("bitmask", noPlane.camera, Light{.type = LightType::Disk, .position = {0, 5, 0}, .size = 0.5f}), InputError);
+  expectValidationSilent();
+}
+
+}  // namespace
+}  // namespace penumbra::test
+
+namespace penumbra::test {
+namespace {
+
+// Patch-to-patch visibility between two 4x4 rectangles 2 apart, 32x32 samples each: open (the
+// blocker lies beside them), half blocked (a quad over half of the target), fully blocked (one
+// over all of it). The fraction of unblocked pairs is within 1/1024 (one source sample's share)
+// of Embree's, tracing every pair of the same sample points.
+TEST(Bitmask, PatchToPatchVisibilityMatchesEmbree) {
+  const Patch from{{-2, 2, -2}, {4, 0, 0}, {0, 0, 4}}, to{{-2, 0, -2}, {4, 0, 0}, {0, 0, 4}};
+  struct Case {
+    const char* name;
+    glm::vec3 lo, hi;  // the blocking quad's corners at y = 1
+    double expected;   // roughly
+  };
+  for (const Case& c : {Case{"open", {5, 1, -1}, {7, 1, 1}, 1.0}, Case{"half", {-3, 1, -3}, {0, 1, 3}, 0.5},
+                        Case{"full", {-5, 1, -5}, {5, 1, 5}, 0.0}}) {
+    SCOPED_TRACE(c.name);
+    Mesh blocker = namedMesh("blocker");
+    mesh::addQuad(blocker, {c.lo.x, 1, c.lo.z}, {c.hi.x, 1, c.lo.z}, {c.hi.x, 1, c.hi.z}, {c.lo.x, 1, c.hi.z}, {0, 1, 0});
+    const Scene scene = sceneOf({blocker}, c.name);
+    const std::uint32_t n = 32;
+    const PatchVisibility v = patchVisibility(validatedContext(), scene, from, to, n);
+    const EmbreeRays rays(scene, validatedContext());
+    std::uint64_t unblocked = 0, disagree = 0;
+    for (std::uint32_t i = 0; i < n * n; ++i) {
+      const glm::vec3 target = targetSample(to, n, i);
+      for (std::uint32_t s = 0; s < n * n; ++s) {
+        const glm::vec3 source = sourceSample(from, to, n, s);
+        const bool blocked = rays.occluded({target, 1e-4f, source - target, 1.0f - 1e-4f});
+        unblocked += !blocked;
+        disagree += blocked != v.blocked(i, s);
+      }
+    }
+    const double embree = double(unblocked) / double(v.pairs);
+    std::cout << c.name << ": bitmask " << v.fraction() << ", embree " << embree << ", pairs that differ " << disagree << "\n";
+    EXPECT_NEAR(v.fraction(), c.expected, 0.05);
+    EXPECT_NEAR(v.fraction(), embree, 1.0 / 1024.0);
+  }
+  // Patches that cross each other's plane, or too many samples, are refused.
+  Mesh aside = namedMesh("aside");
+  mesh::addQuad(aside, {5, 1, -1}, {7, 1, -1}, {7, 1, 1}, {5, 1, 1}, {0, 1, 0});
+  const Scene scene = sceneOf({aside}, "aside");
+  EXPECT_THROW(patchVisibility(validatedContext(), scene, from, Patch{{-2, 3, -2}, {4, 0, 0}, {0, -2, 0}}, 8), InputError);
+  EXPECT_THROW(patchVisibility(validatedContext(), scene, from, to, 33), InputError);
+  EXPECT_THROW(parsePatch("0,0,0:1,0,0:1,1,0"), InputError);  // edges not perpendicular
   expectValidationSilent();
 }
 

@@ -21,14 +21,15 @@ struct BitmaskFrame {
   vec4 origin;       // xyz: world point at the map's (0, 0) corner
   vec4 axisU;        // xyz: unit world direction of the map's x; w: the map's world extent along it
   vec4 axisV;        // ... of its y
-  vec4 lightCentre;  // xyz; w: light size (rect side, disk diameter)
+  vec4 lightCentre;  // xyz; w: light size along lightT (rect side, disk diameter)
   vec4 lightT;       // xyz: the light's first axis (GpuLight tangent); w: height of its lowest corner over the plane
   vec4 lightB;       // xyz: cross(direction, tangent); w: casters lie between the plane and the light, this far off both
   uint words;        // 32-bit words per hidden-samples texel: ceil(samples / 32)
   uint samples;
   uint resolution;   // the map's texels per side
   uint pad0;
-  vec4 onPlane;      // x: a pixel lies on the receiver within this distance of the plane; y: min cos to its normal
+  vec4 onPlane;      // x: a pixel lies on the receiver within this distance of the plane; y: min cos to its
+                     // normal; z: light size along lightB (a patch's second side; lightCentre.w for lights)
 };
 
 // The oriented line from a to b (a != b) in Hough coordinates: its direction theta in (-pi, pi]
@@ -43,6 +44,15 @@ PN_FN uint houghBin(vec2 line) {
   uint ti = uint(floor((line.x + 3.14159265f) * (float(BITMASK_THETA_BINS) / 6.28318531f))) % BITMASK_THETA_BINS;
   float rf = (line.y + BITMASK_R_MAX) * (float(BITMASK_R_BINS) / (2.0f * BITMASK_R_MAX));
   return ti * BITMASK_R_BINS + uint(clamp(floor(rf), 0.0f, float(BITMASK_R_BINS - 1u)));
+}
+
+// The bin of the same line reversed: theta + pi, -r. The table holds there the exact complement of
+// the bin's samples, so that two triangles sharing an edge (traversed in opposite directions) hide
+// every sample between them: bitmask_hidden.frag bins an edge from its endpoints in a fixed order
+// and takes the opposite bin for the other direction.
+PN_FN uint houghOpposite(uint bin) {
+  uint ti = bin / BITMASK_R_BINS, ri = bin % BITMASK_R_BINS;
+  return ((ti + BITMASK_THETA_BINS / 2u) % BITMASK_THETA_BINS) * BITMASK_R_BINS + (BITMASK_R_BINS - 1u - ri);
 }
 
 // The line at the centre of bin (ti, ri): its left normal and offset; sample q is left of it when
