@@ -47,6 +47,10 @@ class BitmaskMethod final : public Method {
     });
     r.finishTrace(tracer, job, stats);
     stats.memoryBytes["bitmask"] = pass_->bytes();
+    const auto [regions, texels] = pass_->fill();
+    stats.counts["bitmask_regions"] = regions;
+    stats.counts["bitmask_fill_texels"] = texels;
+    stats.counts["bitmask_map_texels"] = std::uint64_t(frame.resolution) * frame.resolution;
     stats.notes.push_back("bitmask: receiver '" + receiver_->mesh + "', " + std::to_string(frame.resolution) + "^2 map, " +
                           std::to_string(frame.samples) + " samples; the rest of the frame traced like frt (" +
                           tracer.name() + ")");

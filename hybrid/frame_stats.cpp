@@ -55,6 +55,7 @@ nlohmann::json FrameStats::toJson() const {
                                    : nlohmann::json(nullptr)},
           {"samples_per_pixel", samplesPerPixel},
           {"memory_bytes", memoryBytes},
+          {"counts", counts},
           {"setup_ms", setupMs},
           {"refit", refit ? nlohmann::json{{"ms", refit->ms}, {"sah", refit->sah}, {"built_sah", refit->builtSah},
                                            {"sah_growth", refit->growth},

@@ -45,7 +45,7 @@ gpu::GraphicsPipelineDesc hiddenDesc() {
   d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
   d.depthFormat = vk::Format::eUndefined;  // no attachments: fragments OR into a storage buffer
   d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {2, vk::DescriptorType::eStorageBuffer},
-                {3, vk::DescriptorType::eStorageBuffer}};
+                {3, vk::DescriptorType::eStorageBuffer}, {4, vk::DescriptorType::eStorageBuffer}};
   d.name = "bitmask hidden-samples pipeline";
   return d;
 }
@@ -63,10 +63,11 @@ BitmaskPass::BitmaskPass(const gpu::Context& context, std::uint32_t resolution)
       resolvePipeline_(context, bitmask_resolve_comp, kResolveBindings, 0, "bitmask resolve"),
       frame_(context, sizeof(shared::BitmaskFrame), kStorage, "bitmask frame"),
       light_(context, sizeof(shared::GpuLight), kStorage, "bitmask light"),
-      bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds") {}
+      bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds"),
+      fill_(context, 2 * sizeof(std::uint32_t), kStorage, "bitmask fill") {}
 
 vk::DeviceSize BitmaskPass::bytes() const {
-  return frame_.size() + light_.size() + bounds_.size() + (table_ ? table_->size() : 0) + (hidden_ ? hidden_->size() : 0);
+  return frame_.size() + light_.size() + bounds_.size() + fill_.size() + (table_ ? table_->size() : 0) + (hidden_ ? hidden_->size() : 0);
 }
 
 void BitmaskPass::recordTable(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light,
@@ -119,13 +120,14 @@ void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGe
   using Access = vk::AccessFlagBits2;
   if (!hidden_) throw std::logic_error("BitmaskPass: recordHidden before recordTable");
   cmd.fillBuffer(hidden_->handle(), 0, VK_WHOLE_SIZE, 0u);
+  cmd.fillBuffer(fill_.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
                      Stage::eGeometryShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
   const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
   cmd.beginRendering({.renderArea = area, .layerCount = 1});
   cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
   cmd.setScissor(0, area);
-  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, *table_).buffer(3, *hidden_));
+  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, *table_).buffer(3, *hidden_).buffer(4, fill_));
   geometry.bind(cmd);
   cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
   cmd.endRendering();

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
@@ -45,6 +46,12 @@ class BitmaskPass {
   const gpu::Buffer& table() const { return *table_; }    // for tests: BITMASK_THETA_BINS * R_BINS * words
   const gpu::Buffer& hidden() const { return *hidden_; }  // resolution^2 * words
   vk::DeviceSize bytes() const;
+  // After the recorded frame ran: influence regions drawn and their texels (about the fragments;
+  // each region's count capped at 4M).
+  std::pair<std::uint32_t, std::uint32_t> fill() const {
+    const auto words = fill_.download<std::uint32_t>(2);
+    return {words[0], words[1]};
+  }
   bool tableReused() const { return reused_; }
 
  private:
@@ -60,6 +67,7 @@ class BitmaskPass {
   gpu::Buffer frame_;
   gpu::Buffer light_;
   gpu::Buffer bounds_;
+  gpu::Buffer fill_;
   std::optional<gpu::Buffer> table_, hidden_;
   std::uint32_t words_ = 0;
   struct TableKey {  // what the table was built for

@@ -17,6 +17,7 @@ layout(location = 0) flat out vec3 outA;
 layout(location = 1) flat out vec3 outB;
 layout(location = 2) flat out vec3 outC;
 layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
+layout(std430, binding = 4) buffer Fill { uint regions, texels; } fill;  // what was drawn: influence regions, their texels
 
 float height(vec3 x) { return dot(frame.plane.xyz, x) + frame.plane.w; }
 float aboveReceiver(vec3 x) { return height(x) - frame.lightB.w; }
@@ -45,6 +46,9 @@ void emitRegion(vec3 a, vec3 b, vec3 c) {
   lo = max(lo, vec2(0.0));
   hi = min(hi, vec2(1.0));
   if (any(greaterThan(lo, hi))) return;
+  vec2 size = (hi - lo) * float(frame.resolution);
+  atomicAdd(fill.regions, 1u);
+  atomicAdd(fill.texels, uint(min(size.x * size.y, 4e6)));  // about the fragments it makes
   lo = lo * 2.0 - 1.0;
   hi = hi * 2.0 - 1.0;
   for (int k = 0; k < 4; ++k) {

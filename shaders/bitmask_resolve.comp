@@ -1,8 +1,9 @@
 #version 450
-// Bitmask visibility sampling, resolve: a covered pixel on the receiver (onReceiver) takes its visibility from its
-// texel's hidden-samples bits: the fraction of the shared pattern's samples not hidden that are
-// above its tangent plane (lightReaches, as the tracers count them). Every other covered pixel is
-// flagged for the fallback tracer (the compaction lists it); uncovered ones are lit.
+// Bitmask visibility sampling, resolve: a covered pixel on the receiver (onReceiver) takes its
+// visibility from the hidden-samples bits of the texels around it: the fraction of the shared
+// pattern's samples not hidden that are above its tangent plane (lightReaches, as the tracers count
+// them). Every other covered pixel is flagged for the fallback tracer (the compaction lists it);
+// uncovered ones are lit.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bitmask.h"
 #include "shared/frame.h"
@@ -32,14 +33,28 @@ void main() {
     traceFlags[index] = 1u;  // the fallback traces it
     return;
   }
-  uint res = bitmask.resolution, words = bitmask.words;
-  uvec2 texel = min(uvec2(uv * float(res)), uvec2(res - 1u));
-  uint at = (texel.y * res + texel.x) * words;
-  uint spp = frame.spp, seen = 0u;
-  for (uint s = 0u; s < spp; ++s) {
-    bool hiddenSample = ((hidden[at + s / 32u] >> (s % 32u)) & 1u) != 0u;
-    if (!hiddenSample && lightReaches(frame.light, p, n, lightSamplePoint(frame.light, index, s, spp))) ++seen;
+  // The samples above p's tangent plane, then the unhidden ones among them at the four texel
+  // centres around p, interpolated bilinearly: each texel's count is exact for its centre, and
+  // between centres a penumbra varies smoothly (courtyard at 512^2, light 0.1, 64 samples, a 512^2
+  // map: 4.1% of the pixels off by more than 0.05 from the reference with the nearest texel, 1.5%
+  // bilinear; a 2048^2 map: 0.50%, 0.10%).
+  uint res = bitmask.resolution, words = bitmask.words, spp = frame.spp;
+  vec2 at = uv * float(res) - 0.5;
+  ivec2 t0 = ivec2(floor(at));
+  vec2 f = at - vec2(t0);
+  float seen = 0.0;
+  for (uint w = 0u; w < words; ++w) {
+    uint reach = 0u;
+    for (uint k = 0u; k < 32u && w * 32u + k < spp; ++k) {
+      if (lightReaches(frame.light, p, n, lightSamplePoint(frame.light, index, w * 32u + k, spp))) reach |= 1u << k;
+    }
+    if (reach == 0u) continue;
+    for (int c = 0; c < 4; ++c) {
+      ivec2 t = clamp(t0 + ivec2(c & 1, c >> 1), ivec2(0), ivec2(int(res) - 1));
+      float weight = ((c & 1) != 0 ? f.x : 1.0 - f.x) * ((c & 2) != 0 ? f.y : 1.0 - f.y);
+      seen += weight * float(bitCount(~hidden[(uint(t.y) * res + uint(t.x)) * words + w] & reach));
+    }
   }
-  visibility[index] = float(seen) / float(spp);
+  visibility[index] = seen / float(spp);
   traceFlags[index] = 0u;
 }
