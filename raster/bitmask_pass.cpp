@@ -41,8 +41,7 @@ gpu::GraphicsPipelineDesc hiddenDesc() {
   d.vertexSpirv = bitmask_hidden_vert;
   d.geometrySpirv = bitmask_hidden_geom;
   d.fragmentSpirv = bitmask_hidden_frag;
-  d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
-  d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+  readPositions(d);
   d.depthFormat = vk::Format::eUndefined;  // no attachments: fragments OR into a storage buffer
   d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {2, vk::DescriptorType::eStorageBuffer},
                 {3, vk::DescriptorType::eStorageBuffer}, {4, vk::DescriptorType::eStorageBuffer}};

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "core/scene.h"
+#include "gpu/pipeline.h"
 #include "gpu/resources.h"
 
 namespace penumbra::raster {
@@ -16,6 +17,12 @@ struct RasterVertex {  // vertex attributes (locations 0, 1, 2)
   glm::vec3 color;
 };
 static_assert(sizeof(RasterVertex) == 36);
+
+// The vertex input of passes that read positions only (location 0): light and caster passes.
+inline void readPositions(gpu::GraphicsPipelineDesc& d) {
+  d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
+  d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+}
 
 class SceneGeometry {
  public:

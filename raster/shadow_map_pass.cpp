@@ -115,8 +115,7 @@ ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSetting
       pipeline_(context, [] {
         gpu::GraphicsPipelineDesc d;
         d.vertexSpirv = shadow_map_vert;
-        d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
-        d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+        readPositions(d);
         d.depthBias = true;
         d.pushConstantBytes = sizeof(shared::ShadowMapPush);
         d.name = "shadow map pipeline";

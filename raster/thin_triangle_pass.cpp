@@ -39,8 +39,7 @@ gpu::GraphicsPipelineDesc pipelineDesc() {
   d.vertexSpirv = thin_triangles_vert;
   d.geometrySpirv = thin_triangles_geom;
   d.fragmentSpirv = thin_triangles_frag;
-  d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
-  d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)}};
+  readPositions(d);
   d.depthBias = false;  // a bias would push the mask behind the triangle: not conservative
   d.pushConstantBytes = sizeof(shared::ThinTrianglePush);
   d.name = "thin triangle pipeline";
