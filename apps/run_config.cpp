@@ -129,6 +129,13 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->capture_default_str()->check(CLI::Range(16u, 4096u));
   app.add_option("--bitmask-receiver", c.bitmaskReceiver,
                  "Method bitmask: the planar mesh that receives its shadows (default: the largest planar mesh)");
+  app.add_option("--bitmask-fallback", c.bitmaskFallback,
+                 "Method bitmask: how pixels off the receiver are answered: srt (classified, only doubtful ones traced) or "
+                 "frt (all traced)")
+      ->capture_default_str()->check(CLI::IsMember({"srt", "frt"}));
+  app.add_flag("--bitmask-watertight", c.bitmaskWatertight,
+               "Method bitmask: the casters are closed surfaces wound counter-clockwise seen from outside; their triangles "
+               "that face the whole light are dropped (about half the fill; wrong shadows for open surfaces)");
   app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
@@ -264,7 +271,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.sharedSamples = c.sharedSamples;
-  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver};
+  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver, c.bitmaskFallback, c.bitmaskWatertight};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
@@ -303,7 +310,8 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"pcf_kernel", c.pcfKernel},
           {"msm_maps", s.settings.msmMaps},
           {"shared_samples", s.settings.sharedSamples},
-          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receiver", s.settings.bitmask.receiver}}},
+          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receiver", s.settings.bitmask.receiver},
+                       {"fallback", s.settings.bitmask.fallback}, {"watertight", s.settings.bitmask.watertight}}},
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"denoise", c.denoise},

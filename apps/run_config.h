@@ -34,6 +34,8 @@ struct RunConfig {
   bool sharedSamples = false;      // every pixel uses the same light samples (bitmask's pattern)
   std::uint32_t bitmaskRes = 512;  // method bitmask: hidden-samples map texels per side
   std::string bitmaskReceiver;     // method bitmask: the receiver mesh (empty: the largest planar one)
+  std::string bitmaskFallback = "srt";  // method bitmask: srt or frt for the pixels off the receiver
+  bool bitmaskWatertight = false;       // method bitmask: drop the casters' front faces
   float depthBias = 1.0f, slopeBias = 0.0f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread

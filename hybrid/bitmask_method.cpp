@@ -36,7 +36,12 @@ class BitmaskMethod final : public Method {
     const TraceJob job = r.traceJob(false);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
-      r.recordUnclassified(cmd);
+      if (frame.keepOthers) {  // srt answers the other pixels: the map, the classification, the mask
+        r.recordShadowMap(cmd, stats);
+        r.recordClassify(cmd, stats, false);  // the resolve clears the receiver's flags: no list yet
+      } else {
+        r.recordUnclassified(cmd);
+      }
       r.timer().begin(cmd, "bitmask");
       pass_->record(cmd, r.geometry(), r.gbuffer(), r.frameBuffer(), light, frame, r.visibility(), r.traceFlags());
       r.timer().end(cmd);
@@ -52,8 +57,8 @@ class BitmaskMethod final : public Method {
     stats.counts["bitmask_fill_texels"] = texels;
     stats.counts["bitmask_map_texels"] = std::uint64_t(frame.resolution) * frame.resolution;
     stats.notes.push_back("bitmask: receiver '" + receiver_->mesh + "', " + std::to_string(frame.resolution) + "^2 map, " +
-                          std::to_string(frame.samples) + " samples; the rest of the frame traced like frt (" +
-                          tracer.name() + ")");
+                          std::to_string(frame.samples) + " samples; the rest of the frame answered like " +
+                          r.settings().bitmask.fallback + " (" + tracer.name() + ")");
   }
 
  private:
@@ -93,7 +98,12 @@ class BitmaskMethod final : public Method {
     f.samples = spp;
     f.words = (spp + 31) / 32;
     f.resolution = r.settings().bitmask.resolution;
-    f.onPlane = glm::vec4(1e-4f * radius, 0.99f, light.size, 0.0f);
+    const std::string& fallback = r.settings().bitmask.fallback;
+    if (fallback != "srt" && fallback != "frt") {
+      throw InputError("bitmask: fallback '" + fallback + "' is not a method it can use; use srt or frt");
+    }
+    f.keepOthers = fallback == "srt" ? 1u : 0u;
+    f.onPlane = glm::vec4(1e-4f * radius, 0.99f, light.size, r.settings().bitmask.watertight ? 1.0f : 0.0f);
     return f;
   }
 

@@ -173,7 +173,7 @@ void Renderer::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
   recordTraceCount(cmd, {items, row, (groups + row - 1) / row, 1});
 }
 
-bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool makeList) {
   const bool thin = settings_.pip.thinPass;
   if (thin) {
     if (!thin_ || thin_->faceCount() != frameData_.shadow.faceCount) {
@@ -190,7 +190,7 @@ bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
   const raster::ThinTrianglePass* thinPass = thin ? thin_.get() : nullptr;
   const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
   auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
-  push.appendList = settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
+  push.appendList = makeList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
   if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
     pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
   }

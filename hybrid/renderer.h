@@ -131,8 +131,9 @@ class Renderer {
   void recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
   // Thin-triangle mask (when settings().pip.thinPass), then PIP classification (and the corner
   // maps' additions to the penumbra mask with --penumbra-maps 5), with timer scopes.
-  // Returns true when the classification also made the trace list (else recordCompact must).
-  bool recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
+  // Returns true when the classification also made the trace list (else recordCompact must);
+  // never with makeList false (a later pass changes the flags: bitmask's fallback).
+  bool recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool makeList = true);
   // Dense list of the pixels to trace: flagged ones (COMPACT_FLAGGED) or all covered ones.
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
   // For methods that trace without classifying: visibility 1 everywhere, no ray intervals.

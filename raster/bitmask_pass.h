@@ -26,6 +26,8 @@ namespace penumbra::raster {
 struct BitmaskSettings {
   std::uint32_t resolution = 512;  // texels per side of the receiver's hidden-samples map
   std::string receiver;            // the receiver mesh's name; empty: the largest planar mesh
+  std::string fallback = "srt";    // how the other pixels are answered: srt (classified, PIP traced) or frt (all traced)
+  bool watertight = false;         // the casters are closed surfaces wound counter-clockwise: drop their front faces
 };
 
 class BitmaskPass {

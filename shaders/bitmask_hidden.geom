@@ -90,6 +90,20 @@ void emitRegion(vec3 a, vec3 b, vec3 c) {
 
 void clipToLight(vec3 a, vec3 b, vec3 c) CLIP(belowLight, emitRegion, a, b, c)
 
+// Watertight casters (--bitmask-watertight): a closed surface's shadow is that of its back faces,
+// so a triangle facing all four of the light's corners is dropped (about half of the fill).
+bool facesTheWholeLight(vec3 a, vec3 b, vec3 c) {
+  vec3 n = cross(b - a, c - a);  // outward: counter-clockwise seen from outside
+  vec2 halfSize = 0.5 * vec2(frame.lightCentre.w, frame.onPlane.z);
+  for (int i = 0; i < 4; ++i) {
+    vec3 corner = frame.lightCentre.xyz + ((i & 1) != 0 ? halfSize.x : -halfSize.x) * frame.lightT.xyz +
+                  ((i & 2) != 0 ? halfSize.y : -halfSize.y) * frame.lightB.xyz;
+    if (!(dot(n, corner - a) > 0.0)) return false;
+  }
+  return true;
+}
+
 void main() {
+  if (frame.onPlane.w != 0.0 && facesTheWholeLight(inWorld[0], inWorld[1], inWorld[2])) return;
   CLIP(aboveReceiver, clipToLight, inWorld[0], inWorld[1], inWorld[2])
 }

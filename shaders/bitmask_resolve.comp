@@ -2,8 +2,8 @@
 // Bitmask visibility sampling, resolve: a covered pixel on the receiver (onReceiver) takes its
 // visibility from the hidden-samples bits of the texels around it: the fraction of the shared
 // pattern's samples not hidden that are above its tangent plane (lightReaches, as the tracers count
-// them). Every other covered pixel is flagged for the fallback tracer (the compaction lists it);
-// uncovered ones are lit.
+// them). Every other covered pixel is flagged for the fallback tracer (the compaction lists it) and
+// uncovered ones are lit, or, after srt's classification (keepOthers), both keep its answer.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bitmask.h"
 #include "shared/frame.h"
@@ -21,16 +21,21 @@ void main() {
   if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
   vec4 position = imageLoad(gPosition, pix);
+  bool keep = bitmask.keepOthers != 0u;  // srt's classification answered them (lit, umbra or flagged)
   if (position.w == 0.0) {
-    visibility[index] = 1.0;
-    traceFlags[index] = 0u;
+    if (!keep) {
+      visibility[index] = 1.0;
+      traceFlags[index] = 0u;
+    }
     return;
   }
   vec3 p = position.xyz, n = imageLoad(gNormal, pix).xyz;
   vec2 uv = receiverUv(bitmask, p);
   if (!onReceiver(bitmask, p, n, uv)) {
-    visibility[index] = 1.0;
-    traceFlags[index] = 1u;  // the fallback traces it
+    if (!keep) {
+      visibility[index] = 1.0;
+      traceFlags[index] = 1u;  // frt traces it
+    }
     return;
   }
   // The samples above p's tangent plane, then the unhidden ones among them at the four texel

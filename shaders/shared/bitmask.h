@@ -27,9 +27,10 @@ struct BitmaskFrame {
   uint words;        // 32-bit words per hidden-samples texel: ceil(samples / 32)
   uint samples;
   uint resolution;   // the map's texels per side
-  uint pad0;
+  uint keepOthers;   // 1: the resolve leaves pixels off the receiver as the classification left them (fallback srt)
   vec4 onPlane;      // x: a pixel lies on the receiver within this distance of the plane; y: min cos to its
-                     // normal; z: light size along lightB (a patch's second side; lightCentre.w for lights)
+                     // normal; z: light size along lightB (a patch's second side; lightCentre.w for lights);
+                     // w: 1 when the casters are watertight (front faces dropped)
 };
 
 // The oriented line from a to b (a != b) in Hough coordinates: its direction theta in (-pi, pi]
