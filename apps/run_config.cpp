@@ -136,6 +136,9 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_flag("--bitmask-watertight", c.bitmaskWatertight,
                "Method bitmask: the casters are closed surfaces wound counter-clockwise seen from outside; their triangles "
                "that face the whole light are dropped (about half the fill; wrong shadows for open surfaces)");
+  app.add_flag("--bitmask-decorrelate", c.bitmaskDecorrelate,
+               "Method bitmask: each map texel sees the light samples under one of the square's 8 symmetries (noise "
+               "instead of aliasing; the reference no longer has the same samples)");
   app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
   app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
   app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
@@ -271,7 +274,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.sharedSamples = c.sharedSamples;
-  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver, c.bitmaskFallback, c.bitmaskWatertight};
+  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver, c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
@@ -311,7 +314,8 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"msm_maps", s.settings.msmMaps},
           {"shared_samples", s.settings.sharedSamples},
           {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receiver", s.settings.bitmask.receiver},
-                       {"fallback", s.settings.bitmask.fallback}, {"watertight", s.settings.bitmask.watertight}}},
+                       {"fallback", s.settings.bitmask.fallback}, {"watertight", s.settings.bitmask.watertight},
+                       {"decorrelate", s.settings.bitmask.decorrelate}}},
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"denoise", c.denoise},

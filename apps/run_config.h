@@ -36,6 +36,7 @@ struct RunConfig {
   std::string bitmaskReceiver;     // method bitmask: the receiver mesh (empty: the largest planar one)
   std::string bitmaskFallback = "srt";  // method bitmask: srt or frt for the pixels off the receiver
   bool bitmaskWatertight = false;       // method bitmask: drop the casters' front faces
+  bool bitmaskDecorrelate = false;      // method bitmask: the pattern under a symmetry per texel
   float depthBias = 1.0f, slopeBias = 0.0f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread

@@ -103,6 +103,7 @@ class BitmaskMethod final : public Method {
       throw InputError("bitmask: fallback '" + fallback + "' is not a method it can use; use srt or frt");
     }
     f.keepOthers = fallback == "srt" ? 1u : 0u;
+    f.decorrelate = r.settings().bitmask.decorrelate ? 1u : 0u;
     f.onPlane = glm::vec4(1e-4f * radius, 0.99f, light.size, r.settings().bitmask.watertight ? 1.0f : 0.0f);
     return f;
   }

@@ -12,7 +12,7 @@
 namespace penumbra::raster {
 namespace {
 
-static_assert(sizeof(shared::BitmaskFrame) == 144, "BitmaskFrame must match std430 in shared/bitmask.h");
+static_assert(sizeof(shared::BitmaskFrame) == 160, "BitmaskFrame must match std430 in shared/bitmask.h");
 
 constexpr gpu::Binding kTableBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
                                           {1, vk::DescriptorType::eStorageBuffer},

@@ -28,6 +28,7 @@ struct BitmaskSettings {
   std::string receiver;            // the receiver mesh's name; empty: the largest planar mesh
   std::string fallback = "srt";    // how the other pixels are answered: srt (classified, PIP traced) or frt (all traced)
   bool watertight = false;         // the casters are closed surfaces wound counter-clockwise: drop their front faces
+  bool decorrelate = false;        // each texel sees the pattern under one of the square's symmetries (texelSymmetry)
 };
 
 class BitmaskPass {

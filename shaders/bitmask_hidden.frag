@@ -55,11 +55,15 @@ void main() {
     corners = 4u;
   }
   // Corner c seen from x on the light's plane, in units of its size from its centre.
+  // With decorrelation the texel's samples are the pattern under its symmetry S: sample S(q) lies
+  // in the triangle iff q lies in S^-1 of it.
+  uint texel = uint(gl_FragCoord.y) * res + uint(gl_FragCoord.x);
+  uint symmetry = texelSymmetry(frame, texel);
   vec2 l[4];
   vec3 cs[4] = vec3[4](c0, c1, c2, c3);
   for (uint i = 0u; i < 4u; ++i) {
     vec3 on = x + (cs[i] - x) / (dot(direction, cs[i] - x) / toLight);
-    l[i] = vec2(dot(on - centre, t), dot(on - centre, b)) / vec2(frame.lightCentre.w, frame.onPlane.z);
+    l[i] = undoSymmetry(symmetry, vec2(dot(on - centre, t), dot(on - centre, b)) / vec2(frame.lightCentre.w, frame.onPlane.z));
   }
   float area = 0.0;  // twice the signed area (shoelace)
   for (uint i = 0u; i < corners; ++i) {
@@ -86,7 +90,7 @@ void main() {
     bins[i] = reversed ? houghOpposite(houghBin(line)) : houghBin(line);
   }
   uint words = frame.words;
-  uint texel = (uint(gl_FragCoord.y) * res + uint(gl_FragCoord.x)) * words;
+  texel *= words;
   for (uint w = 0u; w < words; ++w) {
     uint m = ~0u;
     for (uint i = 0u; i < corners; ++i) m &= all[i] ? ~0u : table[bins[i] * words + w];

@@ -4,6 +4,7 @@
 #ifndef PENUMBRA_SHARED_BITMASK_H
 #define PENUMBRA_SHARED_BITMASK_H
 #include "shared/glsl_cpp.h"
+#include "shared/light.h"
 PN_BEGIN
 
 // The Hough table: for each oriented line through the light's normalized square [-1/2, 1/2]^2,
@@ -15,7 +16,7 @@ PN_BEGIN
 #define BITMASK_MAX_SAMPLES 1024u  // 32 words: the hidden-samples map of a 512^2 receiver is 32 MiB
 #define BITMASK_GROUP_SIZE 16u     // bitmask_resolve.comp: 16x16 pixels per workgroup
 
-// std430, 144 bytes: one receiver plane and the light, read by every bitmask shader.
+// std430, 160 bytes: one receiver plane and the light, read by every bitmask shader.
 struct BitmaskFrame {
   vec4 plane;        // receiver plane: xyz unit normal on the light's side, w: -dot(normal, a point on it)
   vec4 origin;       // xyz: world point at the map's (0, 0) corner
@@ -31,7 +32,23 @@ struct BitmaskFrame {
   vec4 onPlane;      // x: a pixel lies on the receiver within this distance of the plane; y: min cos to its
                      // normal; z: light size along lightB (a patch's second side; lightCentre.w for lights);
                      // w: 1 when the casters are watertight (front faces dropped)
+  uint decorrelate;  // 1: each texel sees the pattern under one of the square's 8 symmetries (texelSymmetry)
+  uint pad0, pad1, pad2;
 };
+
+// Per-texel decorrelation (--bitmask-decorrelate): texel i's samples are the shared pattern under
+// symmetry texelSymmetry(i) of the light's square (bit 0: swap the axes, then bit 1: negate x,
+// bit 2: negate y), which keeps the light's shape and each sample's stratum size exactly, and
+// turns the pattern's aliasing between texels into noise (the bilinear resolve averages four).
+PN_FN uint texelSymmetry(BitmaskFrame f, uint texel) { return f.decorrelate != 0u ? pcgHash(texel) & 7u : 0u; }
+PN_FN vec2 applySymmetry(uint s, vec2 q) {
+  vec2 r = (s & 1u) != 0u ? vec2(q.y, q.x) : q;
+  return vec2((s & 2u) != 0u ? -r.x : r.x, (s & 4u) != 0u ? -r.y : r.y);
+}
+PN_FN vec2 undoSymmetry(uint s, vec2 q) {
+  vec2 r = vec2((s & 2u) != 0u ? -q.x : q.x, (s & 4u) != 0u ? -q.y : q.y);
+  return (s & 1u) != 0u ? vec2(r.y, r.x) : r;
+}
 
 // The oriented line from a to b (a != b) in Hough coordinates: its direction theta in (-pi, pi]
 // and its signed distance r from the centre (r < -R: every sample is left of it; r > R: none).
