@@ -127,8 +127,9 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                "see bitmask's samples (default: a pattern per pixel)");
   app.add_option("--bitmask-res", c.bitmaskRes, "Method bitmask: texels per side of the receiver's hidden-samples map")
       ->capture_default_str()->check(CLI::Range(16u, 4096u));
-  app.add_option("--bitmask-receiver", c.bitmaskReceiver,
-                 "Method bitmask: the planar mesh that receives its shadows (default: the largest planar mesh)");
+  app.add_option("--bitmask-receivers", c.bitmaskReceivers,
+                 "Method bitmask: the planar meshes that receive its shadows, comma-separated, at most 4 (default: "
+                 "the planar meshes of at least 1% of the largest one's area)");
   app.add_option("--bitmask-fallback", c.bitmaskFallback,
                  "Method bitmask: how pixels off the receiver are answered: srt (classified, only doubtful ones traced) or "
                  "frt (all traced)")
@@ -274,7 +275,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.sharedSamples = c.sharedSamples;
-  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceiver, c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
+  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceivers.empty() ? std::vector<std::string>{} : splitList(c.bitmaskReceivers),
+                        c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer;
   const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
@@ -313,7 +315,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"pcf_kernel", c.pcfKernel},
           {"msm_maps", s.settings.msmMaps},
           {"shared_samples", s.settings.sharedSamples},
-          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receiver", s.settings.bitmask.receiver},
+          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receivers", s.settings.bitmask.receivers},
                        {"fallback", s.settings.bitmask.fallback}, {"watertight", s.settings.bitmask.watertight},
                        {"decorrelate", s.settings.bitmask.decorrelate}}},
           {"warmup_frames", c.warmup},

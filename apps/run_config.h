@@ -33,7 +33,7 @@ struct RunConfig {
   std::uint32_t msmMaps = 4;  // shadow maps averaged by method msm
   bool sharedSamples = false;      // every pixel uses the same light samples (bitmask's pattern)
   std::uint32_t bitmaskRes = 512;  // method bitmask: hidden-samples map texels per side
-  std::string bitmaskReceiver;     // method bitmask: the receiver mesh (empty: the largest planar one)
+  std::string bitmaskReceivers;    // method bitmask: the receiver meshes, comma-separated (empty: detected)
   std::string bitmaskFallback = "srt";  // method bitmask: srt or frt for the pixels off the receiver
   bool bitmaskWatertight = false;       // method bitmask: drop the casters' front faces
   bool bitmaskDecorrelate = false;      // method bitmask: the pattern under a symmetry per texel

@@ -4,8 +4,9 @@
 # builtin:courtyard at three tessellation levels (~4K, ~28K, ~280K triangles; the ground is the
 # receiver), against light size (0.05 .. 1.0 of the scene radius, 64 samples) and against the
 # sample count (32 .. 1024, light 0.2, ~28K triangles). bitmask's own pass (table, map fit,
-# casters' influence regions, resolve) is reported apart from the fallback trace of the other
-# pixels, with its fill (influence-region texels per map texel).
+# casters' influence regions, resolve) is reported apart from the fallback (srt: the classification
+# answers the pixels off the ground, its doubtful ones traced), with its fill (influence-region
+# texels per map texel).
 # Writes bench/results/bitmask.csv (compare's rows), bitmask.md (the tables) and bitmask.machine.txt.
 # RES (default 256x256), REPEAT (default 1), MAP (--bitmask-res, default 512).
 RES=${RES:-256x256}
@@ -43,10 +44,10 @@ rows.sort(key=lambda r: (r[3], r[1], r[2]))
 machine = open("bench/results/bitmask.machine.txt").read().strip()
 print("# Bitmask visibility sampling vs the tracers (bench/bitmask.sh)\n")
 print(f"builtin:courtyard at three tessellation levels, {res}, default camera and disk light; `bitmask` with a {res_map}² map on")
-print("the ground (the largest planar mesh), every other covered pixel traced like `frt`; `srt` and `frt` on the GPU BVH.")
+print("the ground (the only planar mesh), every other covered pixel answered by `srt` (its fallback); `srt` and `frt` on the GPU BVH.")
 print("All with the same light samples (`--shared-samples`), against the Embree reference with them: rmse and wrong %")
 print("(|error| > 0.05) of the visibility over covered pixels. ms: the median frame (one warm-up frame); for bitmask")
-print("also its own pass (Hough table when the samples change, map fit, influence regions, resolve) and the fallback")
+print("also its own pass (Hough table when the samples change, map fit, influence regions, resolve) and the fallback's")
 print("trace. Fill: influence-region texels drawn per map texel. Device: lavapipe (llvmpipe, CPU), a machine shared")
 print("with other jobs: times are indicative, ratios from one run.\n")
 def table(title, keep):

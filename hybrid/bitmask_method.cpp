@@ -1,8 +1,10 @@
 // Method bitmask: bitmask visibility sampling (Eisemann & Décoret 2007) on the scene's planar
-// receiver (the largest planar mesh, or --bitmask-receiver), with the light samples of the shared
-// pattern (GpuLight::sharedPattern, the one the reference uses with --shared-samples). Pixels on
-// the receiver take the hidden-samples map's answer; every other covered pixel is traced like frt
-// (the fallback), so that a whole frame is rendered and compared.
+// receivers (the planar meshes of at least 1% of the largest one's area, up to
+// raster::kMaxBitmaskReceivers, or --bitmask-receivers), each with its own hidden-samples map, with
+// the light samples of the shared pattern (GpuLight::sharedPattern, the one the reference uses
+// with --shared-samples). Pixels on a receiver take its map's answer; every other covered pixel is
+// answered by the fallback (srt or frt), so that a whole frame is rendered and compared. A receiver
+// the light reaches down to (its lowest corner on or below the plane) is left to the fallback.
 #include <string>
 
 #include "core/planar_receivers.h"
@@ -23,27 +25,56 @@ class BitmaskMethod final : public Method {
     if (!shared::isAreaLight(light)) {
       throw InputError("method bitmask samples an area light; give the light a size (--light-size > 0, rect or disk)");
     }
-    const shared::BitmaskFrame frame = frameFor(r, light);
+    const raster::BitmaskSettings& settings = r.settings().bitmask;
+    if (settings.fallback != "srt" && settings.fallback != "frt") {
+      throw InputError("bitmask: fallback '" + settings.fallback + "' is not a method it can use; use srt or frt");
+    }
+    const std::uint32_t spp = r.frameData().spp;
+    if (spp > BITMASK_MAX_SAMPLES) {
+      throw InputError("bitmask: --spp " + std::to_string(spp) + " is more than the " +
+                       std::to_string(BITMASK_MAX_SAMPLES) + " samples a map holds; use 32 to 1024");
+    }
     const vk::DeviceSize range = r.context().storageBufferRange();
-    const vk::DeviceSize hiddenBytes = vk::DeviceSize(frame.resolution) * frame.resolution * frame.words * 4;
+    const vk::DeviceSize hiddenBytes = vk::DeviceSize(settings.resolution) * settings.resolution * ((spp + 31) / 32) * 4;
     if (hiddenBytes > range) {
-      throw InputError("bitmask: a " + std::to_string(frame.resolution) + "^2 map of " + std::to_string(frame.samples) +
+      throw InputError("bitmask: a " + std::to_string(settings.resolution) + "^2 map of " + std::to_string(spp) +
                        " samples needs " + std::to_string(hiddenBytes >> 20) + " MiB, more than one storage binding (" +
                        std::to_string(range >> 20) + " MiB); lower --bitmask-res or --spp");
     }
-    if (!pass_) pass_ = std::make_unique<raster::BitmaskPass>(r.context(), frame.resolution);
+    if (receivers_.empty()) receivers_ = chooseReceivers(r.scene(), settings.receivers, 1e-5f * r.bounds().radius());
+    std::vector<shared::BitmaskFrame> frames;
+    std::string names;
+    for (const PlanarReceiver& receiver : receivers_) {
+      if (auto frame = frameFor(r, light, receiver)) {
+        frames.push_back(*frame);
+        names += (names.empty() ? "'" : ", '") + receiver.mesh + "'";
+      }
+    }
+    if (frames.empty()) {
+      throw InputError("bitmask: the light reaches down to every receiver (its lowest corner on or below their planes); "
+                       "move the light above one or use another method");
+    }
+    // frt: the first receiver's resolve flags every covered pixel off it; the others then only
+    // answer their own pixels. srt: the classification answered every pixel first.
+    const bool srt = settings.fallback == "srt";
+    for (std::size_t k = 0; k < frames.size(); ++k) frames[k].keepOthers = srt || k > 0 ? 1u : 0u;
+    if (!table_) table_ = std::make_unique<raster::BitmaskTable>(r.context());
+    while (passes_.size() < frames.size()) passes_.push_back(std::make_unique<raster::BitmaskPass>(r.context(), settings.resolution));
     ShadowTracer& tracer = r.tracer(stats);
     const TraceJob job = r.traceJob(false);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
-      if (frame.keepOthers) {  // srt answers the other pixels: the map, the classification, the mask
+      if (srt) {  // the map, the classification, the mask
         r.recordShadowMap(cmd, stats);
-        r.recordClassify(cmd, stats, false);  // the resolve clears the receiver's flags: no list yet
+        r.recordClassify(cmd, stats, false);  // the resolves clear the receivers' flags: no list yet
       } else {
         r.recordUnclassified(cmd);
       }
       r.timer().begin(cmd, "bitmask");
-      pass_->record(cmd, r.geometry(), r.gbuffer(), r.frameBuffer(), light, frame, r.visibility(), r.traceFlags());
+      table_->record(cmd, light, spp);
+      for (std::size_t k = 0; k < frames.size(); ++k) {
+        passes_[k]->record(cmd, *table_, r.geometry(), r.gbuffer(), r.frameBuffer(), frames[k], r.visibility(), r.traceFlags());
+      }
       r.timer().end(cmd);
       r.recordCompact(cmd, COMPACT_FLAGGED);
       r.timer().begin(cmd, "trace");
@@ -51,21 +82,26 @@ class BitmaskMethod final : public Method {
       r.timer().end(cmd);
     });
     r.finishTrace(tracer, job, stats);
-    stats.memoryBytes["bitmask"] = pass_->bytes();
-    const auto [regions, texels] = pass_->fill();
+    std::uint64_t bytes = table_->buffer().size(), regions = 0, texels = 0;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      bytes += passes_[k]->bytes();
+      const auto [n, t] = passes_[k]->fill();
+      regions += n;
+      texels += t;
+    }
+    stats.memoryBytes["bitmask"] = bytes;
     stats.counts["bitmask_regions"] = regions;
     stats.counts["bitmask_fill_texels"] = texels;
-    stats.counts["bitmask_map_texels"] = std::uint64_t(frame.resolution) * frame.resolution;
-    stats.notes.push_back("bitmask: receiver '" + receiver_->mesh + "', " + std::to_string(frame.resolution) + "^2 map, " +
-                          std::to_string(frame.samples) + " samples; the rest of the frame answered like " +
-                          r.settings().bitmask.fallback + " (" + tracer.name() + ")");
+    stats.counts["bitmask_map_texels"] = std::uint64_t(settings.resolution) * settings.resolution * frames.size();
+    stats.notes.push_back("bitmask: receivers " + names + ", " + std::to_string(settings.resolution) + "^2 maps, " +
+                          std::to_string(spp) + " samples; the rest of the frame answered like " + settings.fallback +
+                          " (" + tracer.name() + ")");
   }
 
  private:
-  shared::BitmaskFrame frameFor(Renderer& r, const shared::GpuLight& light) {
-    const float radius = r.bounds().radius();
-    if (!receiver_) receiver_ = chooseReceiver(r.scene(), r.settings().bitmask.receiver, 1e-5f * radius);
-    PlanarReceiver rec = *receiver_;
+  // The receiver's map and the light as the shaders take them; none when the light reaches down
+  // to the receiver's plane.
+  static std::optional<shared::BitmaskFrame> frameFor(Renderer& r, const shared::GpuLight& light, PlanarReceiver rec) {
     const glm::vec3 centre(light.position);
     if (glm::dot(rec.normal, centre) + rec.offset < 0.0f) {  // the map's side is the light's
       rec.normal = -rec.normal;
@@ -78,15 +114,9 @@ class BitmaskMethod final : public Method {
       lowest = std::min(lowest, glm::dot(rec.normal, corner) + rec.offset);
     }
     const float margin = light.rayEpsilon;  // as the reference's ray origins: nearer casters are the receiver's
-    if (!(lowest > 2.0f * margin)) {
-      throw InputError("bitmask: the light reaches down to the receiver '" + rec.mesh +
-                       "' (its lowest corner lies on or below the plane); move the light above it or use another method");
-    }
+    if (!(lowest > 2.0f * margin)) return std::nullopt;
+    const raster::BitmaskSettings& settings = r.settings().bitmask;
     const std::uint32_t spp = r.frameData().spp;
-    if (spp > BITMASK_MAX_SAMPLES) {
-      throw InputError("bitmask: --spp " + std::to_string(spp) + " is more than the " +
-                       std::to_string(BITMASK_MAX_SAMPLES) + " samples a map holds; use 32 to 1024");
-    }
     shared::BitmaskFrame f{};
     f.plane = glm::vec4(rec.normal, rec.offset);
     f.origin = glm::vec4(rec.origin, 1.0f);
@@ -97,37 +127,51 @@ class BitmaskMethod final : public Method {
     f.lightB = glm::vec4(b, margin);
     f.samples = spp;
     f.words = (spp + 31) / 32;
-    f.resolution = r.settings().bitmask.resolution;
-    const std::string& fallback = r.settings().bitmask.fallback;
-    if (fallback != "srt" && fallback != "frt") {
-      throw InputError("bitmask: fallback '" + fallback + "' is not a method it can use; use srt or frt");
-    }
-    f.keepOthers = fallback == "srt" ? 1u : 0u;
-    f.decorrelate = r.settings().bitmask.decorrelate ? 1u : 0u;
-    f.onPlane = glm::vec4(1e-4f * radius, 0.99f, light.size, r.settings().bitmask.watertight ? 1.0f : 0.0f);
+    f.resolution = settings.resolution;
+    f.decorrelate = settings.decorrelate ? 1u : 0u;
+    f.onPlane = glm::vec4(1e-4f * r.bounds().radius(), 0.99f, light.size, settings.watertight ? 1.0f : 0.0f);
     return f;
   }
 
-  static PlanarReceiver chooseReceiver(const Scene& scene, const std::string& name, float tolerance) {
-    const std::vector<PlanarReceiver> found = findPlanarReceivers(scene, tolerance);
-    if (name.empty()) {
-      if (found.empty()) {
+  static std::vector<PlanarReceiver> chooseReceivers(const Scene& scene, const std::vector<std::string>& names,
+                                                     float tolerance) {
+    const std::vector<PlanarReceiver> found = findPlanarReceivers(scene, tolerance);  // largest first
+    std::vector<PlanarReceiver> chosen;
+    if (names.empty()) {
+      for (const PlanarReceiver& r : found) {
+        if (r.area >= 0.01 * found.front().area && chosen.size() < raster::kMaxBitmaskReceivers) chosen.push_back(r);
+      }
+      if (chosen.empty()) {
         throw InputError("bitmask: scene '" + scene.name +
                          "' has no planar mesh to receive shadows (all of a mesh's vertices in one plane); use another method");
       }
-      return found.front();
+      return chosen;
     }
-    for (const PlanarReceiver& r : found) {
-      if (r.mesh == name) return r;
+    if (names.size() > raster::kMaxBitmaskReceivers) {
+      throw InputError("bitmask: " + std::to_string(names.size()) + " receivers named, at most " +
+                       std::to_string(raster::kMaxBitmaskReceivers));
     }
-    std::string planar;
-    for (const PlanarReceiver& r : found) planar += (planar.empty() ? "" : ", ") + ("'" + r.mesh + "'");
-    throw InputError("bitmask: no planar mesh named '" + name + "' in scene '" + scene.name + "'; planar meshes: " +
-                     (planar.empty() ? "none" : planar));
+    for (const std::string& name : names) {
+      bool known = false;
+      for (const PlanarReceiver& r : found) {
+        if (r.mesh == name) {
+          chosen.push_back(r);
+          known = true;
+          break;
+        }
+      }
+      if (known) continue;
+      std::string planar;
+      for (const PlanarReceiver& r : found) planar += (planar.empty() ? "" : ", ") + ("'" + r.mesh + "'");
+      throw InputError("bitmask: no planar mesh named '" + name + "' in scene '" + scene.name + "'; planar meshes: " +
+                       (planar.empty() ? "none" : planar));
+    }
+    return chosen;
   }
 
-  std::optional<PlanarReceiver> receiver_;
-  std::unique_ptr<raster::BitmaskPass> pass_;
+  std::vector<PlanarReceiver> receivers_;
+  std::unique_ptr<raster::BitmaskTable> table_;
+  std::vector<std::unique_ptr<raster::BitmaskPass>> passes_;
 };
 
 }  // namespace

@@ -78,10 +78,11 @@ PatchVisibility patchVisibility(const gpu::Context& context, const Scene& scene,
   frame.onPlane = glm::vec4(0.0f, 0.0f, glm::length(from.v), 0.0f);
 
   const raster::SceneGeometry geometry(context, scene);
+  raster::BitmaskTable table(context);
   raster::BitmaskPass pass(context, n);
   context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-    pass.recordTable(cmd, light, frame);
-    pass.recordHidden(cmd, geometry);
+    table.record(cmd, light, frame.samples);
+    pass.recordHidden(cmd, table, geometry, frame);
   });
   PatchVisibility result;
   result.n = n;

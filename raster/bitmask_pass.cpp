@@ -15,7 +15,6 @@ namespace {
 static_assert(sizeof(shared::BitmaskFrame) == 160, "BitmaskFrame must match std430 in shared/bitmask.h");
 
 constexpr gpu::Binding kTableBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
-                                          {1, vk::DescriptorType::eStorageBuffer},
                                           {2, vk::DescriptorType::eStorageBuffer}};
 constexpr gpu::Binding kFitBindings[] = {{0, vk::DescriptorType::eStorageImage},
                                         {1, vk::DescriptorType::eStorageImage},
@@ -53,44 +52,54 @@ constexpr auto kStorage = vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUs
 
 }  // namespace
 
+BitmaskTable::BitmaskTable(const gpu::Context& context)
+    : context_(context),
+      pipeline_(context, bitmask_table_comp, kTableBindings, sizeof(shared::BitmaskTablePush), "bitmask Hough table"),
+      light_(context, sizeof(shared::GpuLight), kStorage, "bitmask light") {}
+
+void BitmaskTable::record(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light, std::uint32_t samples) {
+  const std::uint32_t words = (samples + 31) / 32;
+  if (words_ != words) {
+    words_ = words;
+    table_.emplace(context_, vk::DeviceSize(BITMASK_THETA_BINS) * BITMASK_R_BINS * words * 4, kStorage, "bitmask Hough table");
+    built_.reset();
+  }
+  const Key key{light.type, samples, light.sampleFrame};
+  reused_ = built_ == key;
+  if (reused_) return;
+  // The previous frame's passes may still read this host-written buffer: submitAndWait ran them.
+  light_.upload(std::span<const shared::GpuLight>(&light, 1));
+  pipeline_.bind(cmd, gpu::Descriptors{}.buffer(0, light_).buffer(2, *table_));
+  pipeline_.pushConstants(cmd, shared::BitmaskTablePush{samples, words});
+  const std::uint32_t groups = (BITMASK_THETA_BINS * BITMASK_R_BINS * words + 63) / 64;
+  const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
+  cmd.dispatch(gx, gy, 1);
+  gpu::computeToComputeAndHost(cmd);
+  built_ = key;
+}
+
 BitmaskPass::BitmaskPass(const gpu::Context& context, std::uint32_t resolution)
     : context_(checked(context)),
       resolution_(resolution),
-      tablePipeline_(context, bitmask_table_comp, kTableBindings, 0, "bitmask Hough table"),
       fitPipeline_(context, bitmask_fit_comp, kFitBindings, sizeof(std::uint32_t), "bitmask map fit"),
       hiddenPipeline_(context, hiddenDesc()),
       resolvePipeline_(context, bitmask_resolve_comp, kResolveBindings, 0, "bitmask resolve"),
       frame_(context, sizeof(shared::BitmaskFrame), kStorage, "bitmask frame"),
-      light_(context, sizeof(shared::GpuLight), kStorage, "bitmask light"),
       bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds"),
       fill_(context, 2 * sizeof(std::uint32_t), kStorage, "bitmask fill") {}
 
 vk::DeviceSize BitmaskPass::bytes() const {
-  return frame_.size() + light_.size() + bounds_.size() + fill_.size() + (table_ ? table_->size() : 0) + (hidden_ ? hidden_->size() : 0);
+  return frame_.size() + bounds_.size() + fill_.size() + (hidden_ ? hidden_->size() : 0);
 }
 
-void BitmaskPass::recordTable(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light,
-                              const shared::BitmaskFrame& frame) {
+void BitmaskPass::upload(const shared::BitmaskFrame& frame) {
   if (frame.resolution != resolution_) throw std::logic_error("BitmaskPass: the frame's resolution is not the pass's");
   if (words_ != frame.words) {
     words_ = frame.words;
-    table_.emplace(context_, vk::DeviceSize(BITMASK_THETA_BINS) * BITMASK_R_BINS * words_ * 4, kStorage, "bitmask Hough table");
     hidden_.emplace(context_, vk::DeviceSize(resolution_) * resolution_ * words_ * 4, kStorage, "bitmask hidden samples");
-    built_.reset();
   }
-  // The previous frame's passes may still read these host-written buffers: submitAndWait ran them.
+  // The previous frame's passes may still read this host-written buffer: submitAndWait ran them.
   frame_.upload(std::span<const shared::BitmaskFrame>(&frame, 1));
-  light_.upload(std::span<const shared::GpuLight>(&light, 1));
-  const TableKey key{light.type, frame.samples, light.sampleFrame};
-  reused_ = built_ == key;
-  if (!reused_) {
-    tablePipeline_.bind(cmd, gpu::Descriptors{}.buffer(0, light_).buffer(1, frame_).buffer(2, *table_));
-    const std::uint32_t groups = (BITMASK_THETA_BINS * BITMASK_R_BINS * words_ + 63) / 64;
-    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
-    cmd.dispatch(gx, gy, 1);
-    built_ = key;
-  }
-  gpu::computeToComputeAndHost(cmd);
 }
 
 void BitmaskPass::recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer) {
@@ -114,10 +123,10 @@ void BitmaskPass::recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPas
   cmd.dispatch(1, 1, 1);
 }
 
-void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry) {
+void BitmaskPass::recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry) {
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
-  if (!hidden_) throw std::logic_error("BitmaskPass: recordHidden before recordTable");
+  if (table.words() != words_) throw std::logic_error("BitmaskPass: the table is for another sample count");
   cmd.fillBuffer(hidden_->handle(), 0, VK_WHOLE_SIZE, 0u);
   cmd.fillBuffer(fill_.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
@@ -126,7 +135,7 @@ void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGe
   cmd.beginRendering({.renderArea = area, .layerCount = 1});
   cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
   cmd.setScissor(0, area);
-  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, *table_).buffer(3, *hidden_).buffer(4, fill_));
+  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, table.buffer()).buffer(3, *hidden_).buffer(4, fill_));
   geometry.bind(cmd);
   cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
   cmd.endRendering();
@@ -134,15 +143,20 @@ void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGe
                      Access::eShaderStorageRead | Access::eHostRead);
 }
 
-void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
-                         const gpu::Buffer& frameData, const shared::GpuLight& light,
-                         const shared::BitmaskFrame& frame, const gpu::Buffer& visibility,
-                         const gpu::Buffer& traceFlags) {
-  recordTable(cmd, light, frame);
+void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
+                               const shared::BitmaskFrame& frame) {
+  upload(frame);
+  recordDraw(cmd, table, geometry);
+}
+
+void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
+                         const GBufferPass& gbuffer, const gpu::Buffer& frameData, const shared::BitmaskFrame& frame,
+                         const gpu::Buffer& visibility, const gpu::Buffer& traceFlags) {
+  upload(frame);
   // The map fitted to the receiver's visible part, on the GPU: the frame buffer the later passes
   // read holds the fitted rectangle.
   recordFit(cmd, gbuffer);
-  recordHidden(cmd, geometry);
+  recordDraw(cmd, table, geometry);
   resolvePipeline_.bind(cmd, gpu::Descriptors{}
                                  .storageImage(0, gbuffer.position().view())
                                  .storageImage(1, gbuffer.normal().view())

@@ -1,9 +1,9 @@
-// Bitmask visibility sampling (Eisemann & Décoret 2007) for one planar receiver: which of up to
+// Bitmask visibility sampling (Eisemann & Décoret 2007) for planar receivers: which of up to
 // BITMASK_MAX_SAMPLES light samples each texel of the receiver's hidden-samples map cannot see,
 // from one raster pass over the casters, no shadow map and no rays.
-//  - fit (bitmask_fit.comp): the map narrowed to the receiver's part the camera sees;
-//  - table (bitmask_table.comp): the Hough table of the shared sample pattern, rebuilt when the
-//    light, the samples or the frame's pattern change;
+//  - table (bitmask_table.comp, BitmaskTable): the Hough table of the shared sample pattern,
+//    rebuilt when the light, the samples or the frame's pattern change, shared by the receivers;
+//  - fit (bitmask_fit.comp): a receiver's map narrowed to its part the camera sees;
 //  - hidden (bitmask_hidden.{vert,geom,frag}): each caster's influence region on the map; per
 //    fragment the triangle back-projected onto the light and its three edges' masks ANDed, ORed
 //    into the texel's bits (atomicOr in a storage buffer: any number of words per texel);
@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
@@ -23,30 +24,59 @@
 
 namespace penumbra::raster {
 
+constexpr std::size_t kMaxBitmaskReceivers = 4;
+
 struct BitmaskSettings {
   std::uint32_t resolution = 512;  // texels per side of the receiver's hidden-samples map
-  std::string receiver;            // the receiver mesh's name; empty: the largest planar mesh
+  // The receiver meshes' names; empty: the planar meshes of at least 1% of the largest one's area
+  // (at most kMaxBitmaskReceivers, largest first).
+  std::vector<std::string> receivers;
   std::string fallback = "srt";    // how the other pixels are answered: srt (classified, PIP traced) or frt (all traced)
   bool watertight = false;         // the casters are closed surfaces wound counter-clockwise: drop their front faces
   bool decorrelate = false;        // each texel sees the pattern under one of the square's symmetries (texelSymmetry)
 };
 
+// The Hough table (bitmask_table.comp) of the shared pattern's samples under one light: built when
+// the light's type, the sample count or the frame's pattern shift change, shared by every
+// receiver's pass.
+class BitmaskTable {
+ public:
+  explicit BitmaskTable(const gpu::Context& context);
+  // Builds the table for `light` and `samples` unless the last one holds.
+  void record(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light, std::uint32_t samples);
+  const gpu::Buffer& buffer() const { return *table_; }  // BITMASK_THETA_BINS * R_BINS * words
+  std::uint32_t words() const { return words_; }
+  bool reused() const { return reused_; }
+
+ private:
+  const gpu::Context& context_;
+  gpu::ComputePipeline pipeline_;
+  gpu::Buffer light_;
+  std::optional<gpu::Buffer> table_;
+  std::uint32_t words_ = 0;
+  struct Key {  // what the table was built for
+    std::uint32_t type, samples, sampleFrame;
+    bool operator==(const Key&) const = default;
+  };
+  std::optional<Key> built_;
+  bool reused_ = false;
+};
+
+// One receiver's hidden-samples map and its resolve.
 class BitmaskPass {
  public:
   // Throws std::runtime_error when the device lacks geometry shaders or fragment atomics.
   BitmaskPass(const gpu::Context& context, std::uint32_t resolution);
-  // Uploads the frame and the light and builds the Hough table for them unless the last one holds
-  // (same light type, samples and sample frame); record() starts with it.
-  void recordTable(const vk::raii::CommandBuffer& cmd, const shared::GpuLight& light, const shared::BitmaskFrame& frame);
-  // After recordTable: the hidden-samples map of the uploaded frame's receiver rectangle as it is
-  // (texel centres at its (i + 1/2) / resolution points), left for compute and host reads.
-  void recordHidden(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry);
-  // The hidden-samples map of `frame`'s receiver under `light` (frame.samples, frame.words set),
-  // then the resolve into visibility and traceFlags. `frameData`: the renderer's FrameData.
-  void record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const GBufferPass& gbuffer,
-              const gpu::Buffer& frameData, const shared::GpuLight& light, const shared::BitmaskFrame& frame,
+  // The hidden-samples map of `frame`'s receiver rectangle as it is (texel centres at its
+  // (i + 1/2) / resolution points) with `table` (recorded before, for frame.samples), left for
+  // compute and host reads.
+  void recordHidden(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
+                    const shared::BitmaskFrame& frame);
+  // The map fitted to the receiver's pixels in the G-buffer, the hidden samples, then the resolve
+  // into visibility and traceFlags. `frameData`: the renderer's FrameData.
+  void record(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
+              const GBufferPass& gbuffer, const gpu::Buffer& frameData, const shared::BitmaskFrame& frame,
               const gpu::Buffer& visibility, const gpu::Buffer& traceFlags);
-  const gpu::Buffer& table() const { return *table_; }    // for tests: BITMASK_THETA_BINS * R_BINS * words
   const gpu::Buffer& hidden() const { return *hidden_; }  // resolution^2 * words
   vk::DeviceSize bytes() const;
   // After the recorded frame ran: influence regions drawn and their texels (about the fragments;
@@ -55,30 +85,23 @@ class BitmaskPass {
     const auto words = fill_.download<std::uint32_t>(2);
     return {words[0], words[1]};
   }
-  bool tableReused() const { return reused_; }
 
  private:
+  void upload(const shared::BitmaskFrame& frame);
   // The map's rectangle narrowed to the receiver pixels of the G-buffer (bitmask_fit.comp).
   void recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer);
+  void recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry);
 
   const gpu::Context& context_;
   std::uint32_t resolution_;
-  gpu::ComputePipeline tablePipeline_;
   gpu::ComputePipeline fitPipeline_;
   gpu::GraphicsPipeline hiddenPipeline_;
   gpu::ComputePipeline resolvePipeline_;
   gpu::Buffer frame_;
-  gpu::Buffer light_;
   gpu::Buffer bounds_;
   gpu::Buffer fill_;
-  std::optional<gpu::Buffer> table_, hidden_;
+  std::optional<gpu::Buffer> hidden_;
   std::uint32_t words_ = 0;
-  struct TableKey {  // what the table was built for
-    std::uint32_t type, samples, sampleFrame;
-    bool operator==(const TableKey&) const = default;
-  };
-  std::optional<TableKey> built_;
-  bool reused_ = false;
 };
 
 }  // namespace penumbra::raster

@@ -8,7 +8,7 @@
 #include "shared/light.h"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Light { GpuLight light; };
-layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
+layout(push_constant) uniform Push { BitmaskTablePush frame; };
 layout(std430, binding = 2) writeonly buffer Table { uint table[]; };
 
 void main() {

@@ -25,26 +25,23 @@ namespace {
 // houghBin keeps every sample farther from it than the bin's quantization on its own side.
 TEST(Bitmask, HoughTableMatchesLeftOfLineTests) {
   gpu::Context& context = validatedContext();
-  raster::BitmaskPass pass(context, 16);
+  raster::BitmaskTable hough(context);
   for (const Light& l : {Light{.type = LightType::Rect, .position = {0, 3, 0}, .size = 1.0f},
                          Light{.type = LightType::Disk, .position = {0, 3, 0}, .size = 1.0f}}) {
     for (std::uint32_t samples : {32u, 100u, 1024u}) {
       SCOPED_TRACE(std::to_string(samples) + " samples, light type " + std::to_string(int(l.type)));
       shared::GpuLight light = toGpuLight(l, Bounds{{-1, -1, -1}, {1, 1, 1}}, 1e-4f);
       light.sharedPattern = 1;
-      shared::BitmaskFrame frame{};
-      frame.samples = samples;
-      frame.words = (samples + 31) / 32;
-      frame.resolution = 16;
-      context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { pass.recordTable(cmd, light, frame); });
-      const auto table = pass.table().download<std::uint32_t>(std::size_t(BITMASK_THETA_BINS) * BITMASK_R_BINS * frame.words);
+      context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { hough.record(cmd, light, samples); });
+      const std::uint32_t words = hough.words();
+      const auto table = hough.buffer().download<std::uint32_t>(std::size_t(BITMASK_THETA_BINS) * BITMASK_R_BINS * words);
       std::vector<glm::vec2> q(samples);
       for (std::uint32_t s = 0; s < samples; ++s) q[s] = shared::lightSampleOnLight(light, 0, s, samples);
       std::size_t wrongBits = 0;
       for (std::uint32_t bin = 0; bin < BITMASK_THETA_BINS * BITMASK_R_BINS; bin += 97) {  // every 97th bin
         const glm::vec3 line = shared::houghBinLine(bin / BITMASK_R_BINS, bin % BITMASK_R_BINS);
-        for (std::uint32_t s = 0; s < frame.words * 32; ++s) {
-          const bool set = (table[std::size_t(bin) * frame.words + s / 32] >> (s % 32)) & 1u;
+        for (std::uint32_t s = 0; s < words * 32; ++s) {
+          const bool set = (table[std::size_t(bin) * words + s / 32] >> (s % 32)) & 1u;
           if (s < samples && std::abs(glm::dot(q[s], glm::vec2(line)) - line.z) < 1e-5f) continue;  // on the line (float)
           wrongBits += set != (s < samples && glm::dot(q[s], glm::vec2(line)) > line.z);
         }
@@ -66,7 +63,7 @@ TEST(Bitmask, HoughTableMatchesLeftOfLineTests) {
           const float side = glm::dot(q[s], left) - line.y;
           if (std::abs(side) <= reach) continue;
           ++far;
-          misplaced += (((table[std::size_t(bin) * frame.words + s / 32] >> (s % 32)) & 1u) != 0) != (side > 0.0f);
+          misplaced += (((table[std::size_t(bin) * words + s / 32] >> (s % 32)) & 1u) != 0) != (side > 0.0f);
         }
       }
       EXPECT_GT(far, 1000u);
@@ -184,7 +181,7 @@ TEST(Bitmask, BadInputIsRefused) {
   const Light disk{.type = LightType::Disk, .position = {0, 3, 0}, .size = 0.5f};
   EXPECT_THROW(many.renderer->render("bitmask", many.camera, disk), InputError);  // more samples than a map holds
   settings.spp = 16;
-  settings.bitmask.receiver = "no such mesh";
+  settings.bitmask.receivers = {"no such mesh"};
   SceneRun named(bitmaskScene(), settings);
   EXPECT_THROW(named.renderer->render("bitmask", named.camera, disk), InputError);
   Mesh box = namedMesh("box");
@@ -192,7 +189,7 @@ TEST(Bitmask, BadInputIsRefused) {
   Scene boxOnly = sceneOf({box}, "box");
   boxOnly.camera = Camera{.eye = {0, 4, 4}, .target = {0, 0, 0}};
   boxOnly.lights.push_back(Light{.type = LightType::Disk, .position = {0, 5, 0}, .size = 0.5f});
-  settings.bitmask.receiver.clear();
+  settings.bitmask.receivers.clear();
   SceneRun noPlane(std::move(boxOnly), settings);
   EXPECT_THROW(noPlane.renderer->render("bitmask", noPlane.camera, Light{.type = LightType::Disk, .position = {0, 5, 0}, .size = 0.5f}), InputError);
   expectValidationSilent();
@@ -330,6 +327,45 @@ TEST(Bitmask, DecorrelationBringsFewSamplesCloserToTheConvergedAnswer) {
   const double shared = groundRmse(false), decorrelated = groundRmse(true);
   std::cout << "ground rmse vs 512 spp: shared pattern " << shared << ", decorrelated " << decorrelated << "\n";
   EXPECT_LT(decorrelated, shared);
+  expectValidationSilent();
+}
+
+}  // namespace
+}  // namespace penumbra::test
+
+namespace penumbra::test {
+namespace {
+
+// Several receivers: a ground and a wall, each with its own map; the shadows on both match the
+// reference with the same samples, and fewer pixels fall back to tracing than with the ground alone.
+TEST(Bitmask, GroundAndWallEachGetAMap) {
+  Mesh ground = namedMesh("ground"), wall = namedMesh("wall"), casters = namedMesh("casters");
+  mesh::addQuad(ground, {-3, 0, -2}, {3, 0, -2}, {3, 0, 3}, {-3, 0, 3}, {0, 1, 0});
+  mesh::addQuad(wall, {-3, 0, -2}, {3, 0, -2}, {3, 3, -2}, {-3, 3, -2}, {0, 0, 1});
+  mesh::addBox(casters, {-0.5f, 1.2f, -1.2f}, {0.4f, 0, 0}, {0, 0.4f, 0}, {0, 0, 0.3f});
+  mesh::addBox(casters, {1.0f, 0.6f, 0.5f}, {0.2f, 0, 0}, {0, 0.6f, 0}, {0, 0, 0.2f});
+  Scene scene = sceneOf({ground, wall, casters}, "ground and wall");
+  scene.camera = Camera{.eye = {1.5f, 2.5f, 5.0f}, .target = {0, 0.8f, -1}};
+  scene.lights.push_back(Light{.type = LightType::Disk, .position = {0.5f, 3.5f, 2.5f},
+                               .direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -1.0f)), .size = 0.8f});
+  auto run = [&](std::vector<std::string> receivers) {
+    RenderSettings settings = smallSettings(128);
+    settings.spp = 64;
+    settings.sharedSamples = true;
+    settings.bitmask.resolution = 1024;
+    settings.bitmask.fallback = "frt";  // every pixel off the receivers traced: their count shows
+    settings.bitmask.receivers = std::move(receivers);
+    SceneRun r(Scene(scene), settings);
+    return std::pair{r.render("ref"), r.render("bitmask")};
+  };
+  const auto [reference, both] = run({});  // detected: the ground and the wall
+  const auto [reference1, groundOnly] = run({"ground"});
+  const double wrong = compareVisibility(both.visibility, reference.visibility, reference.covered, 0.05f).wrongPixelFraction;
+  std::cout << "ground and wall: wrong " << wrong << ", traced " << *both.stats.pipFraction << " (ground only: "
+            << *groundOnly.stats.pipFraction << "); " << both.stats.notes.front() << "\n";
+  EXPECT_NE(both.stats.notes.front().find("'wall'"), std::string::npos);
+  EXPECT_LE(wrong, 0.005);
+  EXPECT_LT(*both.stats.pipFraction, 0.5 * *groundOnly.stats.pipFraction) << "the wall's pixels use its map";
   expectValidationSilent();
 }
 

@@ -16,6 +16,12 @@ PN_BEGIN
 #define BITMASK_MAX_SAMPLES 1024u  // 32 words: the hidden-samples map of a 512^2 receiver is 32 MiB
 #define BITMASK_GROUP_SIZE 16u     // bitmask_resolve.comp: 16x16 pixels per workgroup
 
+// bitmask_table.comp's push constants.
+struct BitmaskTablePush {
+  uint samples;
+  uint words;  // ceil(samples / 32)
+};
+
 // std430, 160 bytes: one receiver plane and the light, read by every bitmask shader.
 struct BitmaskFrame {
   vec4 plane;        // receiver plane: xyz unit normal on the light's side, w: -dot(normal, a point on it)
