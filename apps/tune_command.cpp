@@ -72,9 +72,8 @@ std::vector<SweepConfig> tuneCandidates(const RunConfig& base, float lightSize) 
     c.push_back(candidate("srt", {{"--shadow-map-res", "2048"}, {"--tracer", "ls"}}));
     c.push_back(candidate("frt", {{"--tracer", "ls"}}));
   }
-  for (const char* method : {"ls", "bitmask"}) {
-    if (methodExists(method)) c.push_back(candidate(method, {}));
-  }
+  if (methodExists("ls")) c.push_back(candidate("ls", {}));
+  if (area && methodExists("bitmask")) c.push_back(candidate("bitmask", {}));  // it samples an area light
   return c;
 }
 
