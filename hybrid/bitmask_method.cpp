@@ -4,7 +4,9 @@
 // the light samples of the shared pattern (GpuLight::sharedPattern, the one the reference uses
 // with --shared-samples). Pixels on a receiver take its map's answer; every other covered pixel is
 // answered by the fallback (srt or frt), so that a whole frame is rendered and compared. A receiver
-// the light reaches down to (its lowest corner on or below the plane) is left to the fallback.
+// the light reaches down to (its lowest corner on or below the plane) is left to the fallback. A
+// named mesh that is not planar may be a height field over a plane (the paper's extension): its
+// heights are rasterized onto the map and each texel's receiver point lies on them.
 #include <string>
 
 #include "core/planar_receivers.h"
@@ -41,13 +43,18 @@ class BitmaskMethod final : public Method {
                        " samples needs " + std::to_string(hiddenBytes >> 20) + " MiB, more than one storage binding (" +
                        std::to_string(range >> 20) + " MiB); lower --bitmask-res or --spp");
     }
-    if (receivers_.empty()) receivers_ = chooseReceivers(r.scene(), settings.receivers, 1e-5f * r.bounds().radius());
+    if (receivers_.empty()) {
+      receivers_ = chooseReceivers(r.scene(), settings.receivers, 1e-5f * r.bounds().radius());
+      for (const PlanarReceiver& receiver : receivers_) fields_.push_back(fieldGeometry(r, receiver));
+    }
     std::vector<shared::BitmaskFrame> frames;
+    std::vector<const raster::SceneGeometry*> fields;
     std::string names;
-    for (const PlanarReceiver& receiver : receivers_) {
-      if (auto frame = frameFor(r, light, receiver)) {
+    for (std::size_t k = 0; k < receivers_.size(); ++k) {
+      if (auto frame = frameFor(r, light, receivers_[k])) {
         frames.push_back(*frame);
-        names += (names.empty() ? "'" : ", '") + receiver.mesh + "'";
+        fields.push_back(fields_[k].get());
+        names += (names.empty() ? "'" : ", '") + receivers_[k].mesh + (receivers_[k].heightField ? "' (height field)" : "'");
       }
     }
     if (frames.empty()) {
@@ -73,7 +80,8 @@ class BitmaskMethod final : public Method {
       r.timer().begin(cmd, "bitmask");
       table_->record(cmd, light, spp);
       for (std::size_t k = 0; k < frames.size(); ++k) {
-        passes_[k]->record(cmd, *table_, r.geometry(), r.gbuffer(), r.frameBuffer(), frames[k], r.visibility(), r.traceFlags());
+        passes_[k]->record(cmd, *table_, r.geometry(), fields[k], r.gbuffer(), r.frameBuffer(), frames[k], r.visibility(),
+                           r.traceFlags());
       }
       r.timer().end(cmd);
       r.recordCompact(cmd, COMPACT_FLAGGED);
@@ -103,7 +111,7 @@ class BitmaskMethod final : public Method {
   // to the receiver's plane.
   static std::optional<shared::BitmaskFrame> frameFor(Renderer& r, const shared::GpuLight& light, PlanarReceiver rec) {
     const glm::vec3 centre(light.position);
-    if (glm::dot(rec.normal, centre) + rec.offset < 0.0f) {  // the map's side is the light's
+    if (!rec.heightField && glm::dot(rec.normal, centre) + rec.offset < 0.0f) {  // the map's side is the light's
       rec.normal = -rec.normal;
       rec.offset = -rec.offset;
     }
@@ -114,7 +122,7 @@ class BitmaskMethod final : public Method {
       lowest = std::min(lowest, glm::dot(rec.normal, corner) + rec.offset);
     }
     const float margin = light.rayEpsilon;  // as the reference's ray origins: nearer casters are the receiver's
-    if (!(lowest > 2.0f * margin)) return std::nullopt;
+    if (!(lowest > rec.top + 2.0f * margin)) return std::nullopt;  // the light must be above all of it
     const raster::BitmaskSettings& settings = r.settings().bitmask;
     const std::uint32_t spp = r.frameData().spp;
     shared::BitmaskFrame f{};
@@ -130,6 +138,7 @@ class BitmaskMethod final : public Method {
     f.resolution = settings.resolution;
     f.decorrelate = settings.decorrelate ? 1u : 0u;
     f.onPlane = glm::vec4(1e-4f * r.bounds().radius(), 0.99f, light.size, settings.watertight ? 1.0f : 0.0f);
+    f.field = glm::vec4(rec.heightField ? 1.0f : 0.0f, rec.top, 0.0f, 0.0f);
     return f;
   }
 
@@ -161,15 +170,30 @@ class BitmaskMethod final : public Method {
         }
       }
       if (known) continue;
+      if (auto field = findHeightField(scene, name)) {
+        chosen.push_back(*field);
+        continue;
+      }
       std::string planar;
       for (const PlanarReceiver& r : found) planar += (planar.empty() ? "" : ", ") + ("'" + r.mesh + "'");
-      throw InputError("bitmask: no planar mesh named '" + name + "' in scene '" + scene.name + "'; planar meshes: " +
-                       (planar.empty() ? "none" : planar));
+      throw InputError("bitmask: no planar mesh or height field named '" + name + "' in scene '" + scene.name +
+                       "'; planar meshes: " + (planar.empty() ? "none" : planar));
     }
     return chosen;
   }
 
+  // A height field's mesh alone, uploaded for its height pass; null for a plane.
+  static std::unique_ptr<raster::SceneGeometry> fieldGeometry(Renderer& r, const PlanarReceiver& receiver) {
+    if (!receiver.heightField) return nullptr;
+    Scene field;
+    for (const Mesh& mesh : r.scene().meshes) {
+      if (mesh.name == receiver.mesh) field.meshes.push_back(mesh);
+    }
+    return std::make_unique<raster::SceneGeometry>(r.context(), field);
+  }
+
   std::vector<PlanarReceiver> receivers_;
+  std::vector<std::unique_ptr<raster::SceneGeometry>> fields_;
   std::unique_ptr<raster::BitmaskTable> table_;
   std::vector<std::unique_ptr<raster::BitmaskPass>> passes_;
 };

@@ -3,6 +3,8 @@
 #include <stdexcept>
 
 #include "bitmask_fit_comp.h"
+#include "bitmask_height_frag.h"
+#include "bitmask_height_vert.h"
 #include "bitmask_hidden_frag.h"
 #include "bitmask_hidden_geom.h"
 #include "bitmask_hidden_vert.h"
@@ -12,7 +14,7 @@
 namespace penumbra::raster {
 namespace {
 
-static_assert(sizeof(shared::BitmaskFrame) == 160, "BitmaskFrame must match std430 in shared/bitmask.h");
+static_assert(sizeof(shared::BitmaskFrame) == 176, "BitmaskFrame must match std430 in shared/bitmask.h");
 
 constexpr gpu::Binding kTableBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
                                           {2, vk::DescriptorType::eStorageBuffer}};
@@ -24,7 +26,7 @@ constexpr gpu::Binding kResolveBindings[] = {
     {0, vk::DescriptorType::eStorageImage},  {1, vk::DescriptorType::eStorageImage},
     {2, vk::DescriptorType::eStorageBuffer}, {3, vk::DescriptorType::eStorageBuffer},
     {4, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer},
-    {6, vk::DescriptorType::eStorageBuffer}};
+    {6, vk::DescriptorType::eStorageBuffer}, {7, vk::DescriptorType::eStorageBuffer}};
 
 const gpu::Context& checked(const gpu::Context& context) {
   const auto features = context.physicalDevice().getFeatures();
@@ -43,8 +45,20 @@ gpu::GraphicsPipelineDesc hiddenDesc() {
   readPositions(d);
   d.depthFormat = vk::Format::eUndefined;  // no attachments: fragments OR into a storage buffer
   d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {2, vk::DescriptorType::eStorageBuffer},
-                {3, vk::DescriptorType::eStorageBuffer}, {4, vk::DescriptorType::eStorageBuffer}};
+                {3, vk::DescriptorType::eStorageBuffer}, {4, vk::DescriptorType::eStorageBuffer},
+                {5, vk::DescriptorType::eStorageBuffer}};
   d.name = "bitmask hidden-samples pipeline";
+  return d;
+}
+
+gpu::GraphicsPipelineDesc heightDesc() {
+  gpu::GraphicsPipelineDesc d;
+  d.vertexSpirv = bitmask_height_vert;
+  d.fragmentSpirv = bitmask_height_frag;
+  readPositions(d);
+  d.depthFormat = vk::Format::eUndefined;  // fragments take the greatest height with atomics
+  d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer}};
+  d.name = "bitmask height-field pipeline";
   return d;
 }
 
@@ -83,13 +97,14 @@ BitmaskPass::BitmaskPass(const gpu::Context& context, std::uint32_t resolution)
       resolution_(resolution),
       fitPipeline_(context, bitmask_fit_comp, kFitBindings, sizeof(std::uint32_t), "bitmask map fit"),
       hiddenPipeline_(context, hiddenDesc()),
+      heightPipeline_(context, heightDesc()),
       resolvePipeline_(context, bitmask_resolve_comp, kResolveBindings, 0, "bitmask resolve"),
       frame_(context, sizeof(shared::BitmaskFrame), kStorage, "bitmask frame"),
       bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds"),
       fill_(context, 2 * sizeof(std::uint32_t), kStorage, "bitmask fill") {}
 
 vk::DeviceSize BitmaskPass::bytes() const {
-  return frame_.size() + bounds_.size() + fill_.size() + (hidden_ ? hidden_->size() : 0);
+  return frame_.size() + bounds_.size() + fill_.size() + (hidden_ ? hidden_->size() : 0) + (heights_ ? heights_->size() : 0);
 }
 
 void BitmaskPass::upload(const shared::BitmaskFrame& frame) {
@@ -98,6 +113,8 @@ void BitmaskPass::upload(const shared::BitmaskFrame& frame) {
     words_ = frame.words;
     hidden_.emplace(context_, vk::DeviceSize(resolution_) * resolution_ * words_ * 4, kStorage, "bitmask hidden samples");
   }
+  const vk::DeviceSize heightBytes = frame.field.x != 0.0f ? vk::DeviceSize(resolution_) * resolution_ * 4 : 4;
+  if (!heights_ || heights_->size() != heightBytes) heights_.emplace(context_, heightBytes, kStorage, "bitmask heights");
   // The previous frame's passes may still read this host-written buffer: submitAndWait ran them.
   frame_.upload(std::span<const shared::BitmaskFrame>(&frame, 1));
 }
@@ -135,7 +152,12 @@ void BitmaskPass::recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTa
   cmd.beginRendering({.renderArea = area, .layerCount = 1});
   cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
   cmd.setScissor(0, area);
-  hiddenPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(2, table.buffer()).buffer(3, *hidden_).buffer(4, fill_));
+  hiddenPipeline_.bind(cmd, gpu::Descriptors{}
+                                .buffer(1, frame_)
+                                .buffer(2, table.buffer())
+                                .buffer(3, *hidden_)
+                                .buffer(4, fill_)
+                                .buffer(5, *heights_));
   geometry.bind(cmd);
   cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
   cmd.endRendering();
@@ -150,12 +172,30 @@ void BitmaskPass::recordHidden(const vk::raii::CommandBuffer& cmd, const Bitmask
 }
 
 void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
-                         const GBufferPass& gbuffer, const gpu::Buffer& frameData, const shared::BitmaskFrame& frame,
-                         const gpu::Buffer& visibility, const gpu::Buffer& traceFlags) {
+                         const SceneGeometry* field, const GBufferPass& gbuffer, const gpu::Buffer& frameData,
+                         const shared::BitmaskFrame& frame, const gpu::Buffer& visibility, const gpu::Buffer& traceFlags) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
   upload(frame);
   // The map fitted to the receiver's visible part, on the GPU: the frame buffer the later passes
   // read holds the fitted rectangle.
   recordFit(cmd, gbuffer);
+  if (frame.field.x != 0.0f) {  // the field's height over each texel centre of the fitted map
+    if (!field) throw std::logic_error("BitmaskPass: a height field without its mesh");
+    cmd.fillBuffer(heights_->handle(), 0, VK_WHOLE_SIZE, 0u);
+    gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
+                       Stage::eVertexShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
+    const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
+    cmd.beginRendering({.renderArea = area, .layerCount = 1});
+    cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
+    cmd.setScissor(0, area);
+    heightPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(5, *heights_));
+    field->bind(cmd);
+    field->draw(cmd);
+    cmd.endRendering();
+    gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite,
+                       Stage::eFragmentShader | Stage::eComputeShader, Access::eShaderStorageRead);
+  }
   recordDraw(cmd, table, geometry);
   resolvePipeline_.bind(cmd, gpu::Descriptors{}
                                  .storageImage(0, gbuffer.position().view())
@@ -164,7 +204,8 @@ void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const BitmaskTable&
                                  .buffer(3, frame_)
                                  .buffer(4, *hidden_)
                                  .buffer(5, visibility)
-                                 .buffer(6, traceFlags));
+                                 .buffer(6, traceFlags)
+                                 .buffer(7, *heights_));
   cmd.dispatch((gbuffer.width() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE,
                (gbuffer.height() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

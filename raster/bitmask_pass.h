@@ -72,11 +72,12 @@ class BitmaskPass {
   // compute and host reads.
   void recordHidden(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
                     const shared::BitmaskFrame& frame);
-  // The map fitted to the receiver's pixels in the G-buffer, the hidden samples, then the resolve
-  // into visibility and traceFlags. `frameData`: the renderer's FrameData.
+  // The map fitted to the receiver's pixels in the G-buffer, a height field's heights (`field`: its
+  // mesh alone; null for a plane), the hidden samples, then the resolve into visibility and
+  // traceFlags. `frameData`: the renderer's FrameData.
   void record(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry,
-              const GBufferPass& gbuffer, const gpu::Buffer& frameData, const shared::BitmaskFrame& frame,
-              const gpu::Buffer& visibility, const gpu::Buffer& traceFlags);
+              const SceneGeometry* field, const GBufferPass& gbuffer, const gpu::Buffer& frameData,
+              const shared::BitmaskFrame& frame, const gpu::Buffer& visibility, const gpu::Buffer& traceFlags);
   const gpu::Buffer& hidden() const { return *hidden_; }  // resolution^2 * words
   vk::DeviceSize bytes() const;
   // After the recorded frame ran: influence regions drawn and their texels (about the fragments;
@@ -96,11 +97,13 @@ class BitmaskPass {
   std::uint32_t resolution_;
   gpu::ComputePipeline fitPipeline_;
   gpu::GraphicsPipeline hiddenPipeline_;
+  gpu::GraphicsPipeline heightPipeline_;
   gpu::ComputePipeline resolvePipeline_;
   gpu::Buffer frame_;
   gpu::Buffer bounds_;
   gpu::Buffer fill_;
   std::optional<gpu::Buffer> hidden_;
+  std::optional<gpu::Buffer> heights_;  // a height field's, per texel (a 4-byte stand-in for a plane)
   std::uint32_t words_ = 0;
 };
 

@@ -35,7 +35,9 @@ void main() {
   vec4 position = imageLoad(gPosition, pix);
   if (position.w == 0.0) return;
   vec2 uv = receiverUv(bitmask, position.xyz);
-  if (!onReceiver(bitmask, position.xyz, imageLoad(gNormal, pix).xyz, uv)) return;
+  // A height field's surface is not mapped yet: any height from the plane to its top will do.
+  float top = bitmask.field.x != 0.0 ? bitmask.field.y : 0.0;
+  if (!onReceiver(bitmask, position.xyz, imageLoad(gNormal, pix).xyz, uv, 0.5 * top, 0.5 * top)) return;
   atomicMin(bounds[0], floatBitsToUint(uv.x));
   atomicMin(bounds[1], floatBitsToUint(uv.y));
   atomicMax(bounds[2], floatBitsToUint(uv.x));

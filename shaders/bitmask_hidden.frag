@@ -16,6 +16,7 @@ layout(location = 2) flat in vec3 inC;
 layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
 layout(std430, binding = 2) readonly buffer Table { uint table[]; };
 layout(std430, binding = 3) buffer Hidden { uint hidden[]; };
+layout(std430, binding = 5) readonly buffer Heights { float heights[]; };  // a height field's, per texel
 
 // A caster point must lie at least this fraction of the way from the receiver point to the light's plane.
 const float kAhead = 1e-4;
@@ -24,25 +25,30 @@ void main() {
   uint res = frame.resolution;
   vec2 uv = gl_FragCoord.xy / float(res);
   vec3 x = frame.origin.xyz + uv.x * frame.axisU.w * frame.axisU.xyz + uv.y * frame.axisV.w * frame.axisV.xyz;
+  uint texel = uint(gl_FragCoord.y) * res + uint(gl_FragCoord.x);
+  if (frame.field.x != 0.0) x += heights[texel] * frame.plane.xyz;  // the field's surface over the texel
   vec3 t = frame.lightT.xyz, b = frame.lightB.xyz, centre = frame.lightCentre.xyz;
   vec3 direction = cross(t, b);
   float toLight = dot(direction, centre - x);
+  // Caster points nearer to x than the caster margin along the light's axis are x's own surface
+  // (the reference's rays start that far off it): a height field's neighbouring triangles.
+  float ahead = max(kAhead, frame.lightB.w / toLight);
   // How far each corner is along the way from x to the light's plane (1: on it).
   float ka = dot(direction, inA - x) / toLight, kb = dot(direction, inB - x) / toLight, kc = dot(direction, inC - x) / toLight;
-  uint inside = uint(ka > kAhead) + uint(kb > kAhead) + uint(kc > kAhead);
+  uint inside = uint(ka > ahead) + uint(kb > ahead) + uint(kc > ahead);
   if (inside == 0u) return;
   // The clipped polygon, odd corner first (as bitmask_hidden.geom clips).
   vec3 p = inA, q = inB, r = inC;
   float kp = ka, kq = kb, kr = kc;
   bool one = inside == 1u;
   if (inside != 3u) {
-    if ((kb > kAhead) == one) {
+    if ((kb > ahead) == one) {
       p = inB; q = inC; r = inA; kp = kb; kq = kc; kr = ka;
-    } else if ((kc > kAhead) == one) {
+    } else if ((kc > ahead) == one) {
       p = inC; q = inA; r = inB; kp = kc; kq = ka; kr = kb;
     }
   }
-  vec3 pq = mix(p, q, (kp - kAhead) / (kp - kq)), pr = mix(p, r, (kp - kAhead) / (kp - kr));
+  vec3 pq = mix(p, q, (kp - ahead) / (kp - kq)), pr = mix(p, r, (kp - ahead) / (kp - kr));
   vec3 c0 = p, c1 = q, c2 = r, c3 = r;  // a triangle repeats its last corner
   uint corners = 3u;
   if (inside == 1u) {
@@ -57,7 +63,6 @@ void main() {
   // Corner c seen from x on the light's plane, in units of its size from its centre.
   // With decorrelation the texel's samples are the pattern under its symmetry S: sample S(q) lies
   // in the triangle iff q lies in S^-1 of it.
-  uint texel = uint(gl_FragCoord.y) * res + uint(gl_FragCoord.x);
   uint symmetry = texelSymmetry(frame, texel);
   vec2 l[4];
   vec3 cs[4] = vec3[4](c0, c1, c2, c3);

@@ -42,6 +42,15 @@ void emitRegion(vec3 a, vec3 b, vec3 c) {
     vec2 pc = onMap(corner + (c - corner) * (hc / (hc - height(c))));
     lo = min(lo, min(pa, min(pb, pc)));
     hi = max(hi, max(pa, max(pb, pc)));
+    if (frame.field.x != 0.0) {
+      // A height field: v shadows surface points from the plane up to its own height (or the
+      // field's top); a shadow point moves along a straight line with the height, so the ends bound it.
+      pa = onMap(corner + (a - corner) * ((hc - min(height(a), frame.field.y)) / (hc - height(a))));
+      pb = onMap(corner + (b - corner) * ((hc - min(height(b), frame.field.y)) / (hc - height(b))));
+      pc = onMap(corner + (c - corner) * ((hc - min(height(c), frame.field.y)) / (hc - height(c))));
+      lo = min(lo, min(pa, min(pb, pc)));
+      hi = max(hi, max(pa, max(pb, pc)));
+    }
   }
   lo = max(lo, vec2(0.0));
   hi = min(hi, vec2(1.0));

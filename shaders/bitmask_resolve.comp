@@ -15,6 +15,26 @@ layout(std430, binding = 3) readonly buffer Bitmask { BitmaskFrame bitmask; };
 layout(std430, binding = 4) readonly buffer Hidden { uint hidden[]; };
 layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 6) writeonly buffer TraceFlags { uint traceFlags[]; };
+layout(std430, binding = 7) readonly buffer Heights { float heights[]; };  // a height field's, per texel
+
+// A height field's surface height at map point uv (bilinear between texel centres), and how much
+// it varies there (the on-receiver test's allowance for the facets between the centres).
+vec2 fieldHeight(vec2 uv) {
+  if (bitmask.field.x == 0.0) return vec2(0.0);
+  int res = int(bitmask.resolution);
+  vec2 at = uv * float(res) - 0.5;
+  ivec2 t0 = ivec2(floor(at));
+  vec2 f = at - vec2(t0);
+  float h = 0.0, lo = 1e30, hi = -1e30;
+  for (int c = 0; c < 4; ++c) {
+    ivec2 t = clamp(t0 + ivec2(c & 1, c >> 1), ivec2(0), ivec2(res - 1));
+    float v = heights[t.y * res + t.x];
+    h += ((c & 1) != 0 ? f.x : 1.0 - f.x) * ((c & 2) != 0 ? f.y : 1.0 - f.y) * v;
+    lo = min(lo, v);
+    hi = max(hi, v);
+  }
+  return vec2(h, hi - lo);
+}
 
 void main() {
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
@@ -31,7 +51,8 @@ void main() {
   }
   vec3 p = position.xyz, n = imageLoad(gNormal, pix).xyz;
   vec2 uv = receiverUv(bitmask, p);
-  if (!onReceiver(bitmask, p, n, uv)) {
+  vec2 field = fieldHeight(uv);
+  if (!onReceiver(bitmask, p, n, uv, field.x, field.y)) {
     if (!keep) {
       visibility[index] = 1.0;
       traceFlags[index] = 1u;  // frt traces it

@@ -2,12 +2,14 @@
 // receiver's visibility against the Embree reference with the same samples (--shared-samples), the
 // paper's worst case (a large light close to the casters), casters crossing the receiver or lying
 // level with the light, and bad input.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "core/gpu_light.h"
+#include "core/planar_receivers.h"
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
 #include "hybrid/patch_visibility.h"
@@ -366,6 +368,74 @@ TEST(Bitmask, GroundAndWallEachGetAMap) {
   EXPECT_NE(both.stats.notes.front().find("'wall'"), std::string::npos);
   EXPECT_LE(wrong, 0.005);
   EXPECT_LT(*both.stats.pipFraction, 0.5 * *groundOnly.stats.pipFraction) << "the wall's pixels use its map";
+  expectValidationSilent();
+}
+
+}  // namespace
+}  // namespace penumbra::test
+
+namespace penumbra::test {
+namespace {
+
+// A height-field receiver (the paper's extension): a rolling terrain under a floating box and a
+// pole, named with --bitmask-receivers. Each map texel's receiver point lies on the terrain, so
+// its shadows match the reference with the same samples (hills shadow themselves too; a texel's
+// surface is its centre's height, a facet's plane between the centres); the other pixels are srt's.
+TEST(Bitmask, HeightFieldReceiverMatchesTheReference) {
+  const auto height = [](float x, float z) { return 0.25f * std::sin(1.3f * x) * std::cos(1.1f * z) + 0.25f; };
+  Mesh terrain = namedMesh("terrain"), casters = namedMesh("casters");
+  const int cells = 48;
+  for (int j = 0; j <= cells; ++j) {
+    for (int i = 0; i <= cells; ++i) {
+      const float x = -3.0f + 6.0f * float(i) / cells, z = -3.0f + 6.0f * float(j) / cells;
+      terrain.positions.push_back({x, height(x, z), z});
+      terrain.normals.push_back({0, 1, 0});
+    }
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const std::uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
+      terrain.indices.insert(terrain.indices.end(), {a, c, b, b, c, d});  // counter-clockwise seen from above
+    }
+  }
+  mesh::addBox(casters, {-0.6f, 1.6f, 0.2f}, {0.5f, 0, 0}, {0, 0.2f, 0}, {0, 0, 0.4f});
+  mesh::addCylinder(casters, {1.0f, 0.3f, -0.5f}, {1.0f, 1.8f, -0.5f}, 0.08f, 12);
+  Scene scene = sceneOf({terrain, casters}, "terrain");
+  scene.camera = Camera{.eye = {0, 4.5f, 4.5f}, .target = {0, 0.3f, 0}};
+  scene.lights.push_back(Light{.type = LightType::Disk, .position = {0.8f, 3.5f, 0.6f},
+                               .direction = glm::normalize(glm::vec3(-0.2f, -1, -0.2f)), .size = 0.6f});
+  RenderSettings settings = smallSettings(128);
+  settings.spp = 64;
+  settings.sharedSamples = true;
+  settings.bitmask.resolution = 1024;
+  settings.bitmask.receivers = {"terrain"};
+  SceneRun run(std::move(scene), settings);
+  const Frame reference = run.render("ref");
+  const Frame bitmask = run.render("bitmask");
+  const auto positions = run.renderer->gbuffer().positions();
+  std::size_t onTerrain = 0, wrong = 0;
+  double squares = 0.0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (!reference.covered[i]) continue;
+    const float d = bitmask.visibility[i] - reference.visibility[i];
+    if (std::abs(positions[i].y - height(positions[i].x, positions[i].z)) < 0.02f) {
+      ++onTerrain;
+      squares += double(d) * d;
+    }
+    wrong += std::abs(d) > 0.05f;
+  }
+  const double covered = double(std::count(reference.covered.begin(), reference.covered.end(), std::uint8_t(1)));
+  std::cout << "terrain: " << onTerrain << " px, rmse " << std::sqrt(squares / double(onTerrain)) << "; wrong "
+            << double(wrong) / covered << ", traced " << *bitmask.stats.pipFraction << "; " << bitmask.stats.notes.front() << "\n";
+  ASSERT_GT(onTerrain, 8000u);
+  EXPECT_NE(bitmask.stats.notes.front().find("height field"), std::string::npos);
+  EXPECT_LE(double(wrong) / covered, 0.01);
+  EXPECT_LE(std::sqrt(squares / double(onTerrain)), 0.03);
+  EXPECT_LT(*bitmask.stats.pipFraction, 0.3) << "the terrain's pixels use the map";
+  // A mesh that folds over itself is no height field.
+  Mesh box = namedMesh("box");
+  mesh::addBox(box, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  EXPECT_FALSE(findHeightField(sceneOf({box}, "box"), "box"));
   expectValidationSilent();
 }
 

@@ -22,7 +22,8 @@ struct BitmaskTablePush {
   uint words;  // ceil(samples / 32)
 };
 
-// std430, 160 bytes: one receiver plane and the light, read by every bitmask shader.
+// std430, 176 bytes: one receiver plane (or a height field over it) and the light, read by every
+// bitmask shader.
 struct BitmaskFrame {
   vec4 plane;        // receiver plane: xyz unit normal on the light's side, w: -dot(normal, a point on it)
   vec4 origin;       // xyz: world point at the map's (0, 0) corner
@@ -40,6 +41,8 @@ struct BitmaskFrame {
                      // w: 1 when the casters are watertight (front faces dropped)
   uint decorrelate;  // 1: each texel sees the pattern under one of the square's 8 symmetries (texelSymmetry)
   uint pad0, pad1, pad2;
+  vec4 field;        // x: 1 for a height-field receiver (its surface's height over the plane per texel:
+                     // bitmask_height.*), y: its greatest height over the plane
 };
 
 // Per-texel decorrelation (--bitmask-decorrelate): texel i's samples are the shared pattern under
@@ -93,11 +96,13 @@ PN_FN vec2 receiverUv(BitmaskFrame f, vec3 p) {
   return vec2(dot(d, vec3(f.axisU)) / f.axisU.w, dot(d, vec3(f.axisV)) / f.axisV.w);
 }
 
-// Whether surface point p (normal n, map coordinates uv) lies on the receiver: within onPlane.x
-// of its plane, facing its normal, inside its map.
-PN_FN bool onReceiver(BitmaskFrame f, vec3 p, vec3 n, vec2 uv) {
-  return abs(dot(vec3(f.plane), p) + f.plane.w) <= f.onPlane.x && dot(n, vec3(f.plane)) >= f.onPlane.y && uv.x >= 0.0f &&
-         uv.y >= 0.0f && uv.x < 1.0f && uv.y < 1.0f;
+// Whether surface point p (normal n, map coordinates uv) lies on the receiver: inside its map,
+// within onPlane.x of its surface (of height `height` over the plane there; 0 for a plane), and
+// facing the plane's side (a plane: within onPlane.y of its normal; a height field: at all).
+PN_FN bool onReceiver(BitmaskFrame f, vec3 p, vec3 n, vec2 uv, float height, float tolerance) {
+  float facing = f.field.x != 0.0f ? 0.0f : f.onPlane.y;
+  return abs(dot(vec3(f.plane), p) + f.plane.w - height) <= f.onPlane.x + tolerance && dot(n, vec3(f.plane)) > facing &&
+         uv.x >= 0.0f && uv.y >= 0.0f && uv.x < 1.0f && uv.y < 1.0f;
 }
 
 PN_END
