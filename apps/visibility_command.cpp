@@ -18,22 +18,32 @@ VisibilityCommand::VisibilityCommand(CLI::App& app) {
   command_->add_option("--from", from_, "Source rectangle 'x,y,z:ux,uy,uz:vx,vy,vz' (a corner and two perpendicular edges)")
       ->required();
   command_->add_option("--to", to_, "Target rectangle, as --from")->required();
-  command_->add_option("--samples", samples_, "Samples per side of each rectangle (N x N, N <= 32)")
-      ->capture_default_str()->check(CLI::Range(1u, 32u));
+  command_->add_option("--samples", samples_, "Samples on each rectangle, NxN (or N), N <= 32")->capture_default_str();
   command_->add_option("--out", outDir_, "Output folder")->capture_default_str();
   command_->add_flag("--validate", validate_, "Enable the Vulkan validation layers");
 }
 
 int VisibilityCommand::run() {
+  // "N" or "NxN": a square grid (the target's samples are a square map's texel centres).
+  const std::size_t x = samples_.find('x');
+  std::uint32_t n = 0;
+  try {
+    std::size_t used = 0;
+    n = std::uint32_t(std::stoul(samples_.substr(0, x), &used));
+    if (used != samples_.substr(0, x).size() || (x != std::string::npos && samples_.substr(x + 1) != samples_.substr(0, x))) n = 0;
+  } catch (const std::exception&) {
+    n = 0;
+  }
+  if (n < 1 || n > 32) throw InputError("visibility: --samples '" + samples_ + "' is not N or NxN with N in 1..32 (e.g. 32x32)");
   const Scene scene = loadScene(scene_);
   const Patch from = parsePatch(from_, scene.origin), to = parsePatch(to_, scene.origin);
   gpu::Context context({.validate = validate_});
   StagedOutput out(outDir_);
   const auto start = std::chrono::steady_clock::now();
-  const PatchVisibility v = patchVisibility(context, scene, from, to, samples_);
+  const PatchVisibility v = patchVisibility(context, scene, from, to, n);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
-  const std::uint32_t n = v.n, count = n * n;
+  const std::uint32_t count = n * n;
   std::vector<float> perTarget(count);
   std::vector<std::uint8_t> mask(std::size_t(count) * count * 4, 255);
   for (std::uint32_t i = 0; i < count; ++i) {

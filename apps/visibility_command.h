@@ -1,4 +1,4 @@
-// `penumbra visibility --scene S --from RECT --to RECT [--samples N]`: patch-to-patch visibility
+// `penumbra visibility --scene S --from RECT --to RECT [--samples NxN]`: patch-to-patch visibility
 // (Eisemann & Décoret 2007, section 6) with the bitmask pass: the fraction of unblocked pairs of
 // sample points (N x N on each rectangle), printed and written to DIR/visibility.json, with
 // DIR/visibility.png (per target sample, the fraction of source samples it sees) and DIR/mask.png
@@ -19,7 +19,7 @@ class VisibilityCommand {
  private:
   CLI::App* command_;
   std::string scene_ = "builtin:courtyard", from_, to_, outDir_ = "out/visibility";
-  std::uint32_t samples_ = 32;
+  std::string samples_ = "32x32";
   bool validate_ = false;
 };
 

@@ -49,6 +49,10 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
       {"bench --scenes builtin:square --methods sm --shard 3/2", "--shard"},
       {"bench --merge /nonexistent/shard1,/nonexistent/shard2", "--merge"},
+      {"render --method bitmask --scene builtin:courtyard", "area light"},
+      {"render --method bitmask --scene builtin:courtyard --light-size 0.1 --bitmask-receivers nosuch", "nosuch"},
+      {"visibility --scene builtin:square --from 0,1,0:1,0,0:0,0,1 --to 0,0,0:1,0,0:0,0,1 --samples 8x4", "--samples"},
+      {"visibility --scene builtin:square --from 0,1,0:1,0,0:1,0,1 --to 0,0,0:1,0,0:0,0,1", "perpendicular"},
       // Refused before allocating, naming the limit applied and the option that lowers the largest term.
       {"render --method sm --scene builtin:square --res 16384x16384 --shadow-map-res 16384", "lower --res"},
       {"render --method sm --scene builtin:square --res 64x64 --shadow-map-res 16384", "lower --shadow-map-res"},
@@ -63,6 +67,22 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
     EXPECT_NE(r.err.find(mention), std::string::npos) << args << ": " << r.err;
     EXPECT_FALSE(fs::exists(out)) << args << " left partial output";
   }
+}
+
+// penumbra visibility: the fraction of unblocked pairs, printed and in visibility.json, with its images.
+TEST_F(Cli, VisibilityWritesTheFractionAndItsImages) {
+  const std::string out = (dir_ / "vis").string();
+  const Result r = run("visibility --scene builtin:courtyard --from=-2,3,-2:4,0,0:0,0,4 --to=-3,0,-3:6,0,0:0,0,6 "
+                       "--samples 8x8 --validate --out " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("unblocked pairs"), std::string::npos) << r.out;
+  const auto json = nlohmann::json::parse(slurp(dir_ / "vis" / "visibility.json"));
+  EXPECT_EQ(json["pairs"].get<std::uint64_t>(), 64u * 64u);
+  const double fraction = json["unblocked_fraction"].get<double>();
+  EXPECT_GT(fraction, 0.2);  // the courtyard's casters block some pairs, not most
+  EXPECT_LT(fraction, 1.0);
+  EXPECT_TRUE(fs::exists(dir_ / "vis" / "visibility.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "vis" / "mask.png"));
 }
 
 TEST_F(Cli, RenderWritesImagesVisibilityAndStats) {
