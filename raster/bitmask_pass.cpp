@@ -101,7 +101,7 @@ BitmaskPass::BitmaskPass(const gpu::Context& context, std::uint32_t resolution)
       resolvePipeline_(context, bitmask_resolve_comp, kResolveBindings, 0, "bitmask resolve"),
       frame_(context, sizeof(shared::BitmaskFrame), kStorage, "bitmask frame"),
       bounds_(context, 4 * sizeof(std::uint32_t), kStorage, "bitmask map bounds"),
-      fill_(context, 2 * sizeof(std::uint32_t), kStorage, "bitmask fill") {}
+      fill_(context, 3 * sizeof(std::uint32_t), kStorage, "bitmask fill") {}
 
 vk::DeviceSize BitmaskPass::bytes() const {
   return frame_.size() + bounds_.size() + fill_.size() + (hidden_ ? hidden_->size() : 0) + (heights_ ? heights_->size() : 0);

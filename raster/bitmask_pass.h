@@ -80,11 +80,10 @@ class BitmaskPass {
               const shared::BitmaskFrame& frame, const gpu::Buffer& visibility, const gpu::Buffer& traceFlags);
   const gpu::Buffer& hidden() const { return *hidden_; }  // resolution^2 * words
   vk::DeviceSize bytes() const;
-  // After the recorded frame ran: influence regions drawn and their texels (about the fragments;
-  // each region's count capped at 4M).
-  std::pair<std::uint32_t, std::uint32_t> fill() const {
-    const auto words = fill_.download<std::uint32_t>(2);
-    return {words[0], words[1]};
+  // After the recorded frame ran: influence regions drawn and their texels (about the fragments).
+  std::pair<std::uint32_t, std::uint64_t> fill() const {
+    const auto words = fill_.download<std::uint32_t>(3);
+    return {words[0], words[1] | std::uint64_t(words[2]) << 32};
   }
 
  private:

@@ -17,7 +17,9 @@ layout(location = 0) flat out vec3 outA;
 layout(location = 1) flat out vec3 outB;
 layout(location = 2) flat out vec3 outC;
 layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
-layout(std430, binding = 4) buffer Fill { uint regions, texels; } fill;  // what was drawn: influence regions, their texels
+// What was drawn: influence regions, and their texels in 64 bits (low word, carries): a large
+// light over 285K triangles fills 1600 times a 512^2 map, which overflows 32 bits at 2048^2.
+layout(std430, binding = 4) buffer Fill { uint regions, texels, texelsHigh; } fill;
 
 float height(vec3 x) { return dot(frame.plane.xyz, x) + frame.plane.w; }
 float aboveReceiver(vec3 x) { return height(x) - frame.lightB.w; }
@@ -57,7 +59,8 @@ void emitRegion(vec3 a, vec3 b, vec3 c) {
   if (any(greaterThan(lo, hi))) return;
   vec2 size = (hi - lo) * float(frame.resolution);
   atomicAdd(fill.regions, 1u);
-  atomicAdd(fill.texels, uint(min(size.x * size.y, 4e6)));  // about the fragments it makes
+  uint texels = uint(min(size.x * size.y, 4e9));  // about the fragments it makes
+  if (atomicAdd(fill.texels, texels) > ~texels) atomicAdd(fill.texelsHigh, 1u);  // the low word wrapped
   lo = lo * 2.0 - 1.0;
   hi = hi * 2.0 - 1.0;
   for (int k = 0; k < 4; ++k) {
