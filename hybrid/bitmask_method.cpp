@@ -115,30 +115,28 @@ class BitmaskMethod final : public Method {
       rec.normal = -rec.normal;
       rec.offset = -rec.offset;
     }
-    const glm::vec3 t(light.tangent), b = glm::cross(glm::vec3(light.direction), t);
-    float lowest = INFINITY;
-    for (int i = 0; i < 4; ++i) {
-      const glm::vec3 corner = centre + 0.5f * light.size * ((i & 1) ? t : -t) + 0.5f * light.size * ((i & 2) ? b : -b);
-      lowest = std::min(lowest, glm::dot(rec.normal, corner) + rec.offset);
-    }
-    const float margin = light.rayEpsilon;  // as the reference's ray origins: nearer casters are the receiver's
-    if (!(lowest > rec.top + 2.0f * margin)) return std::nullopt;  // the light must be above all of it
     const raster::BitmaskSettings& settings = r.settings().bitmask;
     const std::uint32_t spp = r.frameData().spp;
+    const float margin = light.rayEpsilon;  // as the reference's ray origins: nearer casters are the receiver's
     shared::BitmaskFrame f{};
     f.plane = glm::vec4(rec.normal, rec.offset);
     f.origin = glm::vec4(rec.origin, 1.0f);
     f.axisU = glm::vec4(rec.axisU, rec.extentU);
     f.axisV = glm::vec4(rec.axisV, rec.extentV);
     f.lightCentre = glm::vec4(centre, light.size);
-    f.lightT = glm::vec4(t, lowest);
-    f.lightB = glm::vec4(b, margin);
+    const glm::vec3 t(light.tangent);
+    f.lightT = glm::vec4(t, 0.0f);
+    f.lightB = glm::vec4(glm::cross(glm::vec3(light.direction), t), margin);
     f.samples = spp;
     f.words = (spp + 31) / 32;
     f.resolution = settings.resolution;
     f.decorrelate = settings.decorrelate ? 1u : 0u;
     f.onPlane = glm::vec4(1e-4f * r.bounds().radius(), 0.99f, light.size, settings.watertight ? 1.0f : 0.0f);
     f.field = glm::vec4(rec.heightField ? 1.0f : 0.0f, rec.top, 0.0f, 0.0f);
+    float lowest = INFINITY;  // the light's lowest corner over the plane
+    for (int i = 0; i < 4; ++i) lowest = std::min(lowest, glm::dot(rec.normal, shared::lightSquareCorner(f, i)) + rec.offset);
+    if (!(lowest > rec.top + 2.0f * margin)) return std::nullopt;  // the light must be above all of it
+    f.lightT.w = lowest;
     return f;
   }
 

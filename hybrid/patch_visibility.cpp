@@ -53,16 +53,9 @@ PatchVisibility patchVisibility(const gpu::Context& context, const Scene& scene,
   }
   const glm::vec3 t(light.tangent), b = glm::cross(glm::vec3(light.direction), t);
   const float margin = patchMargin(scene);
-  float lowest = INFINITY;  // of the source's corners over the target's plane
-  for (const glm::vec3& c : {from.corner, from.corner + from.u, from.corner + from.v, from.corner + from.u + from.v}) {
-    lowest = std::min(lowest, glm::dot(normal, c) + offset);
-  }
   float beyond = -INFINITY;  // of the target's corners along the source's direction, past its plane
   for (const glm::vec3& c : {to.corner, to.corner + to.u, to.corner + to.v, to.corner + to.u + to.v}) {
     beyond = std::max(beyond, -glm::dot(glm::vec3(light.direction), c - glm::vec3(light.position)));
-  }
-  if (!(lowest > 2.0f * margin) || !(beyond < -2.0f * margin)) {
-    throw InputError("visibility: each patch must lie wholly on the other's front side (they cross or touch each other's plane)");
   }
   shared::BitmaskFrame frame{};
   frame.plane = glm::vec4(normal, offset);
@@ -70,12 +63,18 @@ PatchVisibility patchVisibility(const gpu::Context& context, const Scene& scene,
   frame.axisU = glm::vec4(glm::normalize(to.u), glm::length(to.u));
   frame.axisV = glm::vec4(glm::normalize(to.v), glm::length(to.v));
   frame.lightCentre = glm::vec4(centreOf(from), light.size);
-  frame.lightT = glm::vec4(t, lowest);
+  frame.lightT = glm::vec4(t, 0.0f);
   frame.lightB = glm::vec4(b, margin);
   frame.samples = n * n;
   frame.words = (n * n + 31) / 32;
   frame.resolution = n;
   frame.onPlane = glm::vec4(0.0f, 0.0f, glm::length(from.v), 0.0f);
+  float lowest = INFINITY;  // of the source's corners over the target's plane
+  for (int i = 0; i < 4; ++i) lowest = std::min(lowest, glm::dot(normal, shared::lightSquareCorner(frame, i)) + offset);
+  frame.lightT.w = lowest;
+  if (!(lowest > 2.0f * margin) || !(beyond < -2.0f * margin)) {
+    throw InputError("visibility: each patch must lie wholly on the other's front side (they cross or touch each other's plane)");
+  }
 
   const raster::SceneGeometry geometry(context, scene);
   raster::BitmaskTable table(context);

@@ -140,6 +140,18 @@ void BitmaskPass::recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPas
   cmd.dispatch(1, 1, 1);
 }
 
+void BitmaskPass::drawOverMap(const vk::raii::CommandBuffer& cmd, const gpu::GraphicsPipeline& pipeline,
+                              const gpu::Descriptors& descriptors, const SceneGeometry& geometry) const {
+  const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
+  cmd.beginRendering({.renderArea = area, .layerCount = 1});  // no attachments: the shaders write buffers
+  cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
+  cmd.setScissor(0, area);
+  pipeline.bind(cmd, descriptors);
+  geometry.bind(cmd);
+  geometry.draw(cmd);
+  cmd.endRendering();
+}
+
 void BitmaskPass::recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry) {
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
@@ -148,19 +160,9 @@ void BitmaskPass::recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTa
   cmd.fillBuffer(fill_.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
                      Stage::eGeometryShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
-  const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
-  cmd.beginRendering({.renderArea = area, .layerCount = 1});
-  cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
-  cmd.setScissor(0, area);
-  hiddenPipeline_.bind(cmd, gpu::Descriptors{}
-                                .buffer(1, frame_)
-                                .buffer(2, table.buffer())
-                                .buffer(3, *hidden_)
-                                .buffer(4, fill_)
-                                .buffer(5, *heights_));
-  geometry.bind(cmd);
-  cmd.drawIndexed(geometry.indexCount(), 1, 0, 0, 0);
-  cmd.endRendering();
+  drawOverMap(cmd, hiddenPipeline_,
+              gpu::Descriptors{}.buffer(1, frame_).buffer(2, table.buffer()).buffer(3, *hidden_).buffer(4, fill_).buffer(5, *heights_),
+              geometry);
   gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite, Stage::eComputeShader | Stage::eHost,
                      Access::eShaderStorageRead | Access::eHostRead);
 }
@@ -185,14 +187,7 @@ void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const BitmaskTable&
     cmd.fillBuffer(heights_->handle(), 0, VK_WHOLE_SIZE, 0u);
     gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
                        Stage::eVertexShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
-    const vk::Rect2D area{{0, 0}, {resolution_, resolution_}};
-    cmd.beginRendering({.renderArea = area, .layerCount = 1});
-    cmd.setViewport(0, vk::Viewport{0.0f, 0.0f, float(resolution_), float(resolution_), 0.0f, 1.0f});
-    cmd.setScissor(0, area);
-    heightPipeline_.bind(cmd, gpu::Descriptors{}.buffer(1, frame_).buffer(5, *heights_));
-    field->bind(cmd);
-    field->draw(cmd);
-    cmd.endRendering();
+    drawOverMap(cmd, heightPipeline_, gpu::Descriptors{}.buffer(1, frame_).buffer(5, *heights_), *field);
     gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite,
                        Stage::eFragmentShader | Stage::eComputeShader, Access::eShaderStorageRead);
   }

@@ -91,6 +91,9 @@ class BitmaskPass {
   // The map's rectangle narrowed to the receiver pixels of the G-buffer (bitmask_fit.comp).
   void recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer);
   void recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTable& table, const SceneGeometry& geometry);
+  // Draws `geometry` with `pipeline` over the map's texels.
+  void drawOverMap(const vk::raii::CommandBuffer& cmd, const gpu::GraphicsPipeline& pipeline,
+                   const gpu::Descriptors& descriptors, const SceneGeometry& geometry) const;
 
   const gpu::Context& context_;
   std::uint32_t resolution_;

@@ -33,10 +33,8 @@ vec2 onMap(vec3 x) {
 
 void emitRegion(vec3 a, vec3 b, vec3 c) {
   vec2 lo = vec2(1e30), hi = vec2(-1e30);
-  vec2 halfSize = 0.5 * vec2(frame.lightCentre.w, frame.onPlane.z);
   for (int i = 0; i < 4; ++i) {
-    vec3 corner = frame.lightCentre.xyz + ((i & 1) != 0 ? halfSize.x : -halfSize.x) * frame.lightT.xyz +
-                  ((i & 2) != 0 ? halfSize.y : -halfSize.y) * frame.lightB.xyz;
+    vec3 corner = lightSquareCorner(frame, i);
     float hc = height(corner);
     // v seen from the corner, on the plane: 0 < height(v) < hc after clipping
     vec2 pa = onMap(corner + (a - corner) * (hc / (hc - height(a))));
@@ -106,11 +104,8 @@ void clipToLight(vec3 a, vec3 b, vec3 c) CLIP(belowLight, emitRegion, a, b, c)
 // so a triangle facing all four of the light's corners is dropped (about half of the fill).
 bool facesTheWholeLight(vec3 a, vec3 b, vec3 c) {
   vec3 n = cross(b - a, c - a);  // outward: counter-clockwise seen from outside
-  vec2 halfSize = 0.5 * vec2(frame.lightCentre.w, frame.onPlane.z);
   for (int i = 0; i < 4; ++i) {
-    vec3 corner = frame.lightCentre.xyz + ((i & 1) != 0 ? halfSize.x : -halfSize.x) * frame.lightT.xyz +
-                  ((i & 2) != 0 ? halfSize.y : -halfSize.y) * frame.lightB.xyz;
-    if (!(dot(n, corner - a) > 0.0)) return false;
+    if (!(dot(n, lightSquareCorner(frame, i) - a) > 0.0)) return false;
   }
   return true;
 }

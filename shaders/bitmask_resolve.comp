@@ -70,13 +70,9 @@ void main() {
   vec2 f = at - vec2(t0);
   // Most receivers see the whole light above their tangent plane: every sample counts, under any
   // texel's symmetry (the light's bounding square's corners all reach p).
-  vec3 lt = vec3(frame.light.tangent), lb = cross(vec3(frame.light.direction), lt), centre = vec3(frame.light.position);
-  float halfSize = 0.5 * frame.light.size;
   bool wholeLight = true;
-  for (int c = 0; c < 4; ++c) {
-    vec3 corner = centre + ((c & 1) != 0 ? halfSize : -halfSize) * lt + ((c & 2) != 0 ? halfSize : -halfSize) * lb;
-    wholeLight = wholeLight && lightReaches(frame.light, p, n, corner);
-  }
+  for (int c = 0; c < 4; ++c) wholeLight = wholeLight && lightReaches(frame.light, p, n, lightSquareCorner(bitmask, c));
+  vec3 lt = bitmask.lightT.xyz, lb = bitmask.lightB.xyz, centre = bitmask.lightCentre.xyz;
   float seen = 0.0;
   for (int c = 0; c < 4; ++c) {
     ivec2 t = clamp(t0 + ivec2(c & 1, c >> 1), ivec2(0), ivec2(int(res) - 1));

@@ -90,6 +90,12 @@ PN_FN vec3 houghBinLine(uint ti, uint ri) {
   return vec3(-sin(theta), cos(theta), r);
 }
 
+// Corner i (0..3) of the light's square (a disk's bounding square, a source patch's rectangle).
+PN_FN vec3 lightSquareCorner(BitmaskFrame f, int i) {
+  vec2 h = 0.5f * vec2(f.lightCentre.w, f.onPlane.z);
+  return vec3(f.lightCentre) + ((i & 1) != 0 ? h.x : -h.x) * vec3(f.lightT) + ((i & 2) != 0 ? h.y : -h.y) * vec3(f.lightB);
+}
+
 // Point p on the receiver's map: [0, 1)^2 inside it.
 PN_FN vec2 receiverUv(BitmaskFrame f, vec3 p) {
   vec3 d = p - vec3(f.origin);
