@@ -25,8 +25,24 @@ using namespace penumbra;
 
 namespace {
 
-int runCommand(const RunConfig& config, const std::vector<std::string>& methods, bool compare) {
-  const RunSetup setup = prepareRun(config, methods);
+// The reference a method's frame is compared with: ref for shadows, the Embree tracer's own run
+// for ao and indirect.
+std::string referenceFor(const std::string& method) {
+  const Term term = makeMethod(method)->term();
+  return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";
+}
+
+int runCommand(const RunConfig& config, const std::vector<std::string>& requested, bool compare) {
+  const RunSetup setup = prepareRun(config, requested);
+  std::vector<std::string> methods;
+  std::vector<std::string> references;  // compare: one per term, in the order the methods need them
+  for (const std::string& m : expandMethods(config, requested)) {
+    const std::string reference = referenceFor(m);
+    if (compare && std::find(references.begin(), references.end(), reference) == references.end()) {
+      references.push_back(reference);
+    }
+    if (!compare || m != reference) methods.push_back(m);
+  }
   gpu::Context context({.validate = config.validate});
   Renderer renderer(context, setup.scene, setup.settings);
 
@@ -41,8 +57,16 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
     return median;
   };
   std::vector<Frame> frames;
-  if (compare) frames.push_back(measured("ref"));
+  for (const std::string& reference : references) frames.push_back(measured(reference));
   for (const std::string& method : methods) frames.push_back(measured(method));
+  // compare: frames[referenceOf[i]] is frame i's reference
+  std::vector<std::size_t> referenceOf(frames.size(), 0);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::string reference = referenceFor(frames[i].stats.method);
+    for (std::size_t r = 0; r < references.size(); ++r) {
+      if (references[r] == reference) referenceOf[i] = r;
+    }
+  }
 
   nlohmann::json context_json = describeRun(config, setup, context);
   const bool soft = setup.light.size > 0.0f;
@@ -51,19 +75,20 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   std::vector<std::vector<float>> flipMaps(frames.size());  // per method: FLIP of its image vs the reference's
   std::vector<std::optional<MissReport>> missReports(frames.size());  // --explain-misses
   if (compare) {
-    for (std::size_t i = 1; i < frames.size(); ++i) {
-      frames[i].stats.error = compareVisibility(frames[i].visibility, frames[0].visibility, frames[0].covered, threshold);
-      frames[i].stats.imageError = compareImages(frames[i].rgba, frames[0].rgba, frames[0].covered, frames[i].width,
+    for (std::size_t i = references.size(); i < frames.size(); ++i) {
+      const Frame& reference = frames[referenceOf[i]];
+      frames[i].stats.error = compareVisibility(frames[i].visibility, reference.visibility, reference.covered, threshold);
+      frames[i].stats.imageError = compareImages(frames[i].rgba, reference.rgba, reference.covered, frames[i].width,
                                                  frames[i].height, &flipMaps[i]);
       if (!frames[i].pip.empty()) {
-        frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, frames[0].visibility,
-                                                       frames[0].covered, frames[i].pip, threshold);
+        frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, reference.visibility,
+                                                       reference.covered, frames[i].pip, threshold);
         if (soft) {
-          frames[i].stats.penumbraMissFraction = penumbraMissFraction(frames[0].visibility, frames[0].covered, frames[i].pip);
+          frames[i].stats.penumbraMissFraction = penumbraMissFraction(reference.visibility, reference.covered, frames[i].pip);
         }
         if (!frames[i].pipWhy.empty()) {
           missReports[i] = explainMisses(frames[i].shadowMapVisibility, frames[i].pip, frames[i].pipWhy,
-                                         frames[0].visibility, frames[0].covered, threshold);
+                                         reference.visibility, reference.covered, threshold);
           frames[i].stats.missCauses = missCauseCounts(*missReports[i]);
         }
       }
@@ -76,17 +101,21 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& methods,
   for (const Frame& frame : frames) writeFrame(dir, frame, context_json);
   if (compare) {
     nlohmann::json metrics{{"scene", context_json}, {"reference", frames[0].stats.toJson()}, {"methods", nlohmann::json::array()}};
+    // Methods ao and indirect have references of their own (the first is also "reference").
+    metrics["references"] = nlohmann::json::array();
+    for (std::size_t r = 0; r < references.size(); ++r) metrics["references"].push_back(frames[r].stats.toJson());
     metrics["scene"]["wrong_pixel_threshold"] = threshold;
     metrics["scene"]["heatmap_full_scale"] = heatmapScale;
     metrics["scene"]["flip_pixels_per_degree"] = FlipSettings{}.pixelsPerDegree;
-    for (std::size_t i = 1; i < frames.size(); ++i) {
-      writeHeatmap(dir, frames[i], frames[0], heatmapScale);
+    for (std::size_t i = references.size(); i < frames.size(); ++i) {
+      const Frame& reference = frames[referenceOf[i]];
+      writeHeatmap(dir, frames[i], reference, heatmapScale);
       if (missReports[i]) {
         writePngRgba8(dir + "/" + frames[i].stats.method + ".misses.png", int(frames[i].width),
-                      int(frames[i].height), missImage(*missReports[i], frames[0].covered));
+                      int(frames[i].height), missImage(*missReports[i], reference.covered));
       }
       writePngRgba8(dir + "/" + frames[i].stats.method + ".flip.png", int(frames[i].width),
-                    int(frames[i].height), flipHeatmap(flipMaps[i], frames[0].covered));
+                    int(frames[i].height), flipHeatmap(flipMaps[i], reference.covered));
       metrics["methods"].push_back(frames[i].stats.toJson());
     }
     writeJson(dir + "/metrics.json", metrics);

@@ -154,8 +154,14 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_option("--tracer", c.tracer,
                  "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
-                 "structures), embree (CPU), ls (line space, GPU), or auto (rq on a GPU that has ray queries, else bvh)")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "bvh", "rq", "embree", "ls"}));
+                 "structures), embree (CPU), ls (line space, GPU), or auto (rq on a GPU that has ray queries, else bvh). "
+                 "Methods ao and indirect take a comma-separated list of " + indirectTracerList() +
+                 " (auto = bvh) and render once per tracer")
+      ->capture_default_str();
+  app.add_option("--indirect-rays", c.indirectRays, "Methods ao and indirect: cosine-weighted rays per pixel")
+      ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
+  app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
   app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
   app.add_option("--linespace-budget", c.linespaceBudgetMb,
@@ -212,8 +218,36 @@ std::vector<std::string> splitList(const std::string& list) {
   return items;
 }
 
+std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std::string>& methods) {
+  const std::vector<std::string> tracers = c.tracer.empty() ? std::vector<std::string>{"auto"} : splitList(c.tracer);
+  const std::vector<std::string> shadowTracers{"auto", "bvh", "rq", "embree", "ls"};
+  std::vector<std::string> out;
+  for (const std::string& m : methods) {
+    if (makeMethod(m)->term() == Term::Shadow) {  // unknown names fail here, before any work
+      if (tracers.size() != 1 || std::find(shadowTracers.begin(), shadowTracers.end(), tracers[0]) == shadowTracers.end()) {
+        throw InputError("--tracer '" + c.tracer + "': method " + m +
+                         " takes one tracer of auto, bvh, rq, embree or ls (lists are for ao and indirect)");
+      }
+      out.push_back(m);
+    } else if (m == "ao" || m == "indirect") {
+      for (const std::string& t : tracers) {
+        const std::string tracer = t == "auto" ? "bvh" : t;
+        if (!isIndirectTracer(tracer)) {
+          throw InputError("--tracer '" + t + "': methods ao and indirect trace on " + indirectTracerList());
+        }
+        out.push_back(m + "-" + tracer);
+      }
+    } else {
+      const std::string tracer = m.substr(m.find('-') + 1);
+      if (!isIndirectTracer(tracer)) throw InputError("method " + m + ": unknown tracer; use " + indirectTracerList());
+      out.push_back(m);
+    }
+  }
+  return out;
+}
+
 RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
-  for (const std::string& m : methods) makeMethod(m);  // unknown names fail before any work
+  for (const std::string& m : expandMethods(c, methods)) makeMethod(m);  // unknown names fail before any work
   for (float v : {c.lightSize, c.depthBias, c.slopeBias, c.normalOffset, c.rayEpsilon, c.pipDelta, c.pipMargin, c.thinWidth,
                   c.thinAspect}) {
     requireFinite(v, "numeric options");
@@ -278,7 +312,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceivers.empty() ? std::vector<std::string>{} : splitList(c.bitmaskReceivers),
                         c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
   s.settings.rayEpsilon = c.rayEpsilon;
-  s.settings.tracer = c.tracer;
+  s.settings.tracer = c.tracer.find(',') == std::string::npos ? c.tracer : "auto";  // a list: ao and indirect only
+  s.settings.indirect.rays = c.indirectRays;
+  requireFinite(c.aoRadius, "--ao-radius");
+  s.settings.indirect.aoRadius = c.aoRadius;
   const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
   if (lineSpace) NTreeBuilder::validate(c.linespaceN, c.linespaceDepth);
   if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {

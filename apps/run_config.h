@@ -42,7 +42,9 @@ struct RunConfig {
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file
   bool noReport = false;     // compare: skip report.html (report.py and matplotlib)
-  std::string tracer = "auto";
+  std::string tracer = "auto";  // one tracer, or for methods ao and indirect a comma-separated list
+  std::uint32_t indirectRays = 16;  // ao / indirect: rays per pixel
+  float aoRadius = 0.1f;            // ao: fraction of the scene radius
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
   float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored
@@ -94,6 +96,10 @@ RunSetup prepareRun(const RunConfig& config, const std::vector<std::string>& met
 nlohmann::json describeRun(const RunConfig& config, const RunSetup& setup, const gpu::Context& context);
 void printSummary(const std::vector<Frame>& frames, std::ostream& out);
 std::vector<std::string> splitList(const std::string& list);
+// The methods a run renders: ao and indirect once per tracer of --tracer (ao-bvh, indirect-embree,
+// ...; auto is bvh). InputError for a tracer list (or an indirect-only tracer) with shadow methods,
+// and for tracers a method does not have.
+std::vector<std::string> expandMethods(const RunConfig& config, const std::vector<std::string>& methods);
 // One row per frame: scene, method, tracer, times (median, min, max), PIP, rays, steps, error, machine.
 void appendCsv(const std::string& path, const std::vector<Frame>& frames, const nlohmann::json& context);
 

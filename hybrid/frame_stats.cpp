@@ -40,6 +40,7 @@ nlohmann::json FrameStats::toJson() const {
   for (const auto& [pass, ms] : passMs) times[pass] = ms;
   return {{"method", method},
           {"tracer", orNull(tracer)},
+          {"term", term.value_or("shadow")},
           {"denoise", orNull(denoise)},
           {"time_ms", times},
           {"pip_fraction", orNull(pipFraction)},

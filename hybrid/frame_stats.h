@@ -17,6 +17,7 @@ namespace penumbra {
 struct FrameStats {
   std::string method;
   std::optional<std::string> tracer;    // which ray tracer answered rays, if any
+  std::optional<std::string> term;      // methods ao and indirect: what the frame's visibility holds
   std::optional<std::string> denoise;   // the denoiser's mode (spatial, temporal), where it ran
   std::optional<double> pipFraction;    // fraction of covered pixels classified for tracing
   std::optional<std::uint64_t> raysTraced;

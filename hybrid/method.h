@@ -16,6 +16,11 @@ namespace penumbra {
 class Renderer;
 struct RenderSettings;
 
+// What a method's frame holds: the shadow term (visibility), or, for methods ao and indirect, the
+// ambient occlusion or one-bounce light they add to the direct light (Renderer::indirect()).
+enum class Term { Shadow, Ao, Indirect };
+const char* termName(Term term);
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -34,6 +39,7 @@ class Method {
   // Methods whose pixels all use one light-sample pattern (GpuLight::sharedPattern): every method
   // does with RenderSettings::sharedSamples.
   virtual bool sharedSamplePattern() const { return false; }
+  virtual Term term() const { return Term::Shadow; }
 };
 
 std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names
@@ -47,5 +53,7 @@ std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, ever
 // srt (selective = true), frt; `tracer` overrides the settings' tracer (method ls: frt on "ls")
 std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer = {});
 std::unique_ptr<Method> makeBitmaskMethod();  // bitmask: visibility sampling on a planar receiver
+// ao and indirect (term Ao or Indirect) on `tracer` (empty: settings.indirect.tracer; embree: the reference)
+std::unique_ptr<Method> makeIndirectMethod(Term term, const std::string& tracer = {});
 
 }  // namespace penumbra

@@ -19,6 +19,8 @@ const std::map<std::string, std::function<std::unique_ptr<Method>()>>& registry(
       {"frt", [] { return makeTracedMethod(false); }},
       {"ls", [] { return makeTracedMethod(false, "ls"); }},  // frt on the line-space tracer
       {"bitmask", [] { return makeBitmaskMethod(); }},
+      {"ao", [] { return makeIndirectMethod(Term::Ao); }},
+      {"indirect", [] { return makeIndirectMethod(Term::Indirect); }},
   };
   return methods;
 }
@@ -34,6 +36,11 @@ std::vector<std::string> methodNames() {
 }
 
 std::unique_ptr<Method> makeMethod(const std::string& name) {
+  // ao-<tracer>, indirect-<tracer>: the method on that tracer
+  for (const auto& [prefix, term] : {std::pair{"ao-", Term::Ao}, std::pair{"indirect-", Term::Indirect}}) {
+    const std::string p = prefix;
+    if (name.size() > p.size() && name.compare(0, p.size(), p) == 0) return makeIndirectMethod(term, name.substr(p.size()));
+  }
   const auto it = registry().find(name);
   if (it == registry().end()) {
     std::string known;

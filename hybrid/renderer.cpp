@@ -44,6 +44,7 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
       frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
       visibility_(context, pixels(settings) * sizeof(float),
                   vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "visibility"),
+      indirect_(context, pixels(settings) * sizeof(glm::vec4), vk::BufferUsageFlagBits::eStorageBuffer, "indirect light"),
       color_(context, pixels(settings) * 4, vk::BufferUsageFlagBits::eStorageBuffer, "shaded colour"),
       smVisibility_(context, pixels(settings) * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer, "sm visibility"),
       traceFlags_(context, pixels(settings) * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "trace flags"),
@@ -58,6 +59,12 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
 }
 
 Renderer::~Renderer() = default;
+
+IndirectPass& Renderer::indirectPass(FrameStats& stats) {
+  if (!indirectPass_) indirectPass_ = std::make_unique<IndirectPass>(context_, scene_);
+  stats.memoryBytes["scene_triangles"] = indirectPass_->bytes();
+  return *indirectPass_;
+}
 
 const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
@@ -113,6 +120,7 @@ void Renderer::sceneMoved() {
   ++sceneVersion_;
   geometry_.update(scene_);
   embree_.reset();
+  if (indirectPass_) indirectPass_->update(scene_);
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
   // else the line space's (both hold the same tree over the same triangles).
   std::optional<BvhRefitReport> traced;
@@ -316,7 +324,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     method->recordBeforeShade(*this, cmd, stats);
     timer_.begin(cmd, "shade");
-    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, color_);
+    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, method->term());
     timer_.end(cmd);
   });
   stats.totalMs = msSince(start);
@@ -326,7 +334,15 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, cons
   const std::vector<glm::vec4> positions = gbuffer_.positions();
   frame.covered.resize(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
-  frame.visibility = visibility_.download<float>(positions.size());
+  if (method->term() == Term::Shadow) {
+    frame.visibility = visibility_.download<float>(positions.size());
+  } else {  // the frame's term: ao = 1 - occlusion, indirect = the mean of rgb
+    const auto light = indirect_.download<glm::vec4>(positions.size());
+    frame.visibility.resize(light.size());
+    for (std::size_t i = 0; i < light.size(); ++i) {
+      frame.visibility[i] = method->term() == Term::Ao ? 1.0f - light[i].a : (light[i].r + light[i].g + light[i].b) / 3.0f;
+    }
+  }
   frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
   const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
   if (frameData_.traceInPlace) stats.pipPixels = covered;  // every covered pixel, read from the G-buffer

@@ -15,6 +15,7 @@
 #include "hybrid/compact_pass.h"
 #include "hybrid/denoise_pass.h"
 #include "hybrid/frame_stats.h"
+#include "hybrid/indirect_pass.h"
 #include "hybrid/shade_pass.h"
 #include "raster/bitmask_pass.h"
 #include "raster/corner_maps_pass.h"
@@ -59,6 +60,7 @@ struct RenderSettings {
   // the reference and the tracers then see bitmask's samples.
   bool sharedSamples = false;
   raster::BitmaskSettings bitmask;   // method bitmask: map resolution, receiver
+  IndirectSettings indirect;         // methods ao and indirect: rays per pixel, ao radius, tracer
 };
 
 // One rendered frame, read back to the host.
@@ -97,6 +99,10 @@ class Renderer {
   const gpu::Buffer& frameBuffer() const { return frameBuffer_; }
   const gpu::Buffer& visibility() const { return visibility_; }
   gpu::Buffer& visibility() { return visibility_; }
+  // Methods ao and indirect: vec4 per pixel (rgb one-bounce light, a occlusion), which shading adds
+  // to the direct light for their frames.
+  gpu::Buffer& indirect() { return indirect_; }
+  IndirectPass& indirectPass(FrameStats& stats);  // made on first use
   const gpu::Buffer& traceFlags() const { return traceFlags_; }  // srt: nonzero where the pixel was traced
   // Mean blocker distance per traced pixel, written by the GPU tracers when settings().denoise is on.
   const gpu::Buffer& blockers() const { return blockers_; }
@@ -174,7 +180,8 @@ class Renderer {
   std::unique_ptr<BvhTracer> bvh_;
   std::unique_ptr<RayQueryTracer> rayQuery_;
   std::unique_ptr<LineSpaceTracer> lineSpace_;
-  gpu::Buffer frameBuffer_, visibility_, color_;
+  std::unique_ptr<IndirectPass> indirectPass_;
+  gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};

@@ -57,6 +57,8 @@ class BvhTracer final : public ShadowTracer {
   const TraceReport& lastRaysReport() const { return raysReport_; }
   // Rays, node visits and triangle tests from a counter buffer of BVH_COUNTER_WORDS (shared/bvh.h).
   static TraceReport readCounters(const gpu::Buffer& counters);
+  // What a kernel including bvh_traverse.glsl through addresses needs: both trees' buffers and the dynamic root.
+  shared::BvhTracePush tracePush() const { return {addresses(), dynamicRoot_, 0u, 0u, 0u}; }
 
  private:
   shared::BvhAddresses addresses() const;

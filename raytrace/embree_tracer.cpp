@@ -14,6 +14,7 @@
 
 #include "raytrace/embree_handles.h"
 #include "shared/frame.h"
+#include "shared/indirect.h"
 #include "shared/trace.h"
 
 namespace penumbra {
@@ -60,6 +61,7 @@ struct EmbreeTracer::Impl {
   DevicePtr device;
   ScenePtr scene;
   std::vector<std::uint32_t> geomToMesh;  // Embree geomID -> Scene mesh index (empty meshes skipped)
+  std::vector<std::uint32_t> geomFirstTriangle;  // Embree geomID -> scene-order index of its first triangle
   double buildMs = 0.0;
 
   static void onError(void* user, RTCError code, const char* message) {
@@ -100,9 +102,11 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
   // Robust mode avoids cracks between adjacent triangles that would leak light through meshes.
   rtcSetSceneFlags(m.scene.get(), RTC_SCENE_FLAG_ROBUST);
 
+  std::uint32_t firstTriangle = 0;
   for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
     const Mesh& mesh = scene.meshes[mi];
     const std::size_t triangles = mesh.triangleCount();
+    firstTriangle += std::uint32_t(triangles);
     if (triangles == 0 || mesh.positions.empty()) continue;
     for (std::size_t i = 0; i < triangles * 3; ++i) {
       // Embree would read out of bounds, so bad input must stop here rather than crash later.
@@ -130,7 +134,9 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
     const unsigned id = rtcAttachGeometry(m.scene.get(), geom.get());
     m.check("geometry commit");
     if (id >= m.geomToMesh.size()) m.geomToMesh.resize(id + 1, 0);
+    if (id >= m.geomFirstTriangle.size()) m.geomFirstTriangle.resize(id + 1, 0);
     m.geomToMesh[id] = static_cast<std::uint32_t>(mi);
+    m.geomFirstTriangle[id] = firstTriangle - std::uint32_t(triangles);
   }
   rtcCommitScene(m.scene.get());
   m.check("scene build");
@@ -232,6 +238,74 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
   });
   impl_->check("shadow tracing");
   return totalRays.load();
+}
+
+namespace {
+
+RTCRay embreeRay(const glm::vec3& origin, const glm::vec3& dir, float tMax) {
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tMax;
+  ray.mask = ~0u;
+  return ray;
+}
+
+bool occluded(RTCScene scene, RTCIntersectContext& context, const glm::vec3& origin, const glm::vec3& dir, float tMax) {
+  RTCRay ray = embreeRay(origin, dir, tMax);
+  rtcOccluded1(scene, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree marks an occluded ray by setting tfar to -inf
+}
+
+}  // namespace
+
+std::uint64_t EmbreeTracer::traceIndirect(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
+                                          std::span<const shared::SceneTriangle> triangles,
+                                          const shared::IndirectParams& params, std::span<glm::vec4> out,
+                                          std::uint64_t* shadowRays) const {
+  if (out.size() != points.size()) throw std::invalid_argument("EmbreeTracer::traceIndirect: output size != points size");
+  RTCScene scene = impl_->scene.get();
+  const std::vector<std::uint32_t>& firstTriangle = impl_->geomFirstTriangle;
+  std::atomic<std::uint64_t> totalShadow{0};
+  parallelBlocks(points.size(), [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    std::uint64_t shadow = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const shared::ShadingPoint& sp = points[i];
+      const glm::vec3 origin = shared::shadowRayOrigin(light, sp.position, sp.normal);
+      glm::vec3 reflected(0.0f);
+      std::uint32_t blocked = 0;
+      for (std::uint32_t k = 0; k < params.rays; ++k) {
+        const glm::vec3 dir = shared::indirectDirection(sp.pixel, k, params.rays, params.frame, sp.normal);
+        if (params.mode == INDIRECT_AO) {
+          blocked += occluded(scene, context, origin, dir, params.aoRadius);
+          continue;
+        }
+        RTCRayHit rh{};
+        rh.ray = embreeRay(origin, dir, params.rayMax);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+        const shared::SceneTriangle& tri = triangles[firstTriangle[rh.hit.geomID] + rh.hit.primID];
+        const shared::IndirectHit hit = shared::indirectHit(tri, origin, dir, rh.ray.tfar, light);
+        if (!hit.lit) continue;
+        ++shadow;
+        if (!occluded(scene, context, hit.shadowOrigin, hit.toLight, hit.shadowEnd)) reflected += hit.reflected;
+      }
+      out[i] = glm::vec4(reflected / float(params.rays), float(blocked) / float(params.rays));
+    }
+    totalShadow.fetch_add(shadow, std::memory_order_relaxed);
+  });
+  impl_->check("indirect tracing");
+  if (shadowRays) *shadowRays = totalShadow.load();
+  return std::uint64_t(points.size()) * params.rays;
 }
 
 }  // namespace penumbra

@@ -10,6 +10,7 @@
 #include "core/camera.h"
 #include "core/scene.h"
 #include "raytrace/shadow_tracer.h"
+#include "shared/indirect.h"
 #include "shared/light.h"
 #include "shared/shading_point.h"
 
@@ -41,6 +42,14 @@ class EmbreeTracer final : public ShadowTracer {
   // Shadow rays start at shared::shadowRayOrigin (the point lifted off its surface along the normal). Returns the number of rays traced.
   std::uint64_t traceShadows(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
                              std::span<float> visibility) const;
+
+  // The indirect rays of `points` (their pixel, position and normal) as indirect_trace.glsl traces
+  // them: out[i] = (rgb one-bounce light, occlusion) from params.rays rays each, with `triangles`
+  // (sceneTriangles) shading the hits. Returns the indirect rays traced; shadowRays gets the
+  // shadow rays from their hits.
+  std::uint64_t traceIndirect(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
+                              std::span<const shared::SceneTriangle> triangles, const shared::IndirectParams& params,
+                              std::span<glm::vec4> out, std::uint64_t* shadowRays = nullptr) const;
 
   std::string name() const override { return "embree"; }
   void record(const vk::raii::CommandBuffer&, const TraceJob&) override {}

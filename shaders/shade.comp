@@ -1,6 +1,8 @@
 #version 450
 // The one shading pass every method shares: Lambert from the light's centre, scaled by the
-// method's visibility, over a small ambient term. Output is sRGB RGBA8, one uint per pixel.
+// method's visibility, over a small ambient term. Methods ao and indirect add their term: ao
+// scales the ambient term, indirect adds one-bounce light (in the direct light's units).
+// Output is sRGB RGBA8, one uint per pixel.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/raster.h"
@@ -11,6 +13,8 @@ layout(binding = 2, rgba8) uniform readonly image2D gAlbedo;
 layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
 layout(std430, binding = 4) readonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 5) writeonly buffer Color { uint color[]; };
+layout(std430, binding = 6) readonly buffer Indirect { vec4 indirect[]; };  // rgb one-bounce light, a occlusion
+layout(push_constant) uniform Push { uint term; };  // hybrid/method.h Term: 0 shadow, 1 ao, 2 indirect
 
 const float kAmbient = 0.12;
 
@@ -26,8 +30,10 @@ void main() {
     vec3 p = position.xyz;
     vec3 n = imageLoad(gNormal, pix).xyz;
     vec3 l = directionToLight(frame.light, p, frame.light.position.xyz);
-    float direct = max(dot(n, l), 0.0) * visibility[index];
-    rgb = imageLoad(gAlbedo, pix).rgb * (kAmbient + (1.0 - kAmbient) * direct * frame.light.color.rgb);
+    vec3 direct = max(dot(n, l), 0.0) * visibility[index] * frame.light.color.rgb;
+    vec4 extra = term != 0u ? indirect[index] : vec4(0.0);
+    if (term == 2u) direct += extra.rgb;
+    rgb = imageLoad(gAlbedo, pix).rgb * (kAmbient * (1.0 - extra.a) + (1.0 - kAmbient) * direct);
   }
   color[index] = packUnorm4x8(vec4(pow(clamp(rgb, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
 }

@@ -1,0 +1,114 @@
+// Methods ao and indirect (Keul et al. 2018's indirect rays): the direct light as sm gives it
+// (camera pass, light pass, shadow-map lookup), then K cosine-weighted rays per covered pixel
+// (shared/indirect.h) on the chosen tracer for ambient occlusion (`ao`) or one-bounce diffuse
+// light (`indirect`), into Renderer::indirect(), which the shading pass adds. On tracer embree
+// the same rays are traced on the CPU: the reference the others are compared with.
+// Names: ao, indirect (settings.indirect.tracer), or ao-<tracer>, indirect-<tracer>.
+#include <chrono>
+#include <string>
+#include <utility>
+
+#include "hybrid/method.h"
+#include "hybrid/renderer.h"
+#include "raytrace/scene_triangles.h"
+
+namespace penumbra {
+namespace {
+
+class IndirectMethod final : public Method {
+ public:
+  IndirectMethod(Term term, std::string tracer) : term_(term), tracer_(std::move(tracer)) {}
+  Term term() const override { return term_; }
+  bool readsShadowMap() const override { return true; }
+  std::uint32_t samplesPerPixel(const RenderSettings& settings) const override { return settings.indirect.rays; }
+
+  void run(Renderer& r, FrameStats& stats) override {
+    const RenderSettings& s = r.settings();
+    const std::string tracer = tracer_.empty() ? s.indirect.tracer : tracer_;
+    const float radius = r.bounds().radius();
+    shared::IndirectParams params{};
+    params.mode = term_ == Term::Ao ? INDIRECT_AO : INDIRECT_BOUNCE;
+    params.rays = s.indirect.rays;
+    params.frame = r.frameData().light.sampleFrame;
+    params.aoRadius = s.indirect.aoRadius * radius;
+    params.rayMax = 4.0f * radius;
+    stats.tracer = tracer;
+    stats.term = termName(term_);
+    if (tracer == "embree") return runReference(r, stats, params);
+
+    IndirectPass& pass = r.indirectPass(stats);
+    auto recordDirect = [&](const vk::raii::CommandBuffer& cmd) {
+      r.recordGBuffer(cmd);
+      r.recordShadowMap(cmd, stats);
+      r.timer().begin(cmd, "lookup");
+      r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
+      r.timer().end(cmd);
+    };
+    if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "' for " + termName(term_) + "; use bvh or embree");
+    BvhTracer& bvh = dynamic_cast<BvhTracer&>(r.tracer(stats, "bvh"));
+    r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      recordDirect(cmd);
+      r.timer().begin(cmd, "indirect");
+      pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, bvh);
+      r.timer().end(cmd);
+    });
+    report(pass, stats);
+  }
+
+ private:
+  static void report(const IndirectPass& pass, FrameStats& stats) {
+    std::uint64_t shadowRays = 0;
+    const TraceReport traced = pass.report(&shadowRays);
+    stats.raysTraced = traced.rays;
+    stats.nodeVisits = traced.nodeVisits;
+    stats.triangleTests = traced.triangleTests;
+    stats.counts["shadow_rays"] = shadowRays;
+  }
+
+  void runReference(Renderer& r, FrameStats& stats, const shared::IndirectParams& params) {
+    const EmbreeTracer& embree = r.embree(stats);
+    r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      r.recordGBuffer(cmd);
+      r.recordShadowMap(cmd, stats);
+      r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
+      r.gbuffer().recordReadback(cmd);
+    });
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<glm::vec4> positions = r.gbuffer().positions();
+    const std::vector<glm::vec4> normals = r.gbuffer().normals();
+    std::vector<shared::ShadingPoint> points;
+    for (std::uint32_t i = 0; i < positions.size(); ++i) {
+      if (positions[i].w != 0.0f) points.push_back({glm::vec3(positions[i]), i, glm::vec3(normals[i]), 1u});
+    }
+    if (triangles_.empty()) triangles_ = sceneTriangles(r.scene());
+    std::vector<glm::vec4> traced(points.size());
+    std::uint64_t shadowRays = 0;
+    stats.raysTraced = embree.traceIndirect(points, r.frameData().light, triangles_, params, traced, &shadowRays);
+    stats.counts["shadow_rays"] = shadowRays;
+    std::vector<glm::vec4> out(positions.size(), glm::vec4(0.0f));
+    for (std::size_t k = 0; k < points.size(); ++k) out[points[k].pixel] = traced[k];
+    r.indirect().upload(std::span<const glm::vec4>(out));
+    stats.addPass("indirect", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+
+  Term term_;
+  std::string tracer_;
+  std::vector<shared::SceneTriangle> triangles_;  // the reference's copy (static scenes: built once)
+};
+
+}  // namespace
+
+const char* termName(Term term) {
+  switch (term) {
+    case Term::Ao: return "ao";
+    case Term::Indirect: return "indirect";
+    case Term::Shadow: break;
+  }
+  return "shadow";
+}
+
+std::unique_ptr<Method> makeIndirectMethod(Term term, const std::string& tracer) {
+  return std::make_unique<IndirectMethod>(term, tracer);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,103 @@
+#include "hybrid/indirect_pass.h"
+
+#include <algorithm>
+
+#include "indirect_bvh_comp.h"
+#include "raytrace/scene_triangles.h"
+
+namespace penumbra {
+namespace {
+
+constexpr vk::DescriptorType kImage = vk::DescriptorType::eStorageImage;
+constexpr vk::DescriptorType kBuffer = vk::DescriptorType::eStorageBuffer;
+constexpr gpu::Binding kBindings[] = {{INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},
+                                      {INDIRECT_BINDING_FRAME, kBuffer},    {INDIRECT_BINDING_TRIANGLES, kBuffer},
+                                      {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer}};
+
+struct BvhPush {
+  shared::IndirectParams params;
+  shared::BvhTracePush bvh;
+};
+static_assert(sizeof(shared::IndirectParams) == 32, "IndirectParams must match std430");
+
+vk::DeviceSize triangleBytes(const Scene& scene) {
+  return std::max<vk::DeviceSize>(1, scene.triangleCount()) * sizeof(shared::SceneTriangle);
+}
+
+}  // namespace
+
+const std::vector<std::string>& indirectTracers() {
+  static const std::vector<std::string> names{"bvh", "embree"};
+  return names;
+}
+
+bool isIndirectTracer(const std::string& name) {
+  return std::find(indirectTracers().begin(), indirectTracers().end(), name) != indirectTracers().end();
+}
+
+std::string indirectTracerList() {
+  std::string s;
+  for (const std::string& n : indirectTracers()) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+IndirectPass::IndirectPass(const gpu::Context& context, const Scene& scene)
+    : context_(context),
+      triangles_(context, triangleBytes(scene), vk::BufferUsageFlagBits::eStorageBuffer, "scene triangles"),
+      counters_(context, INDIRECT_COUNTER_WORDS * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer |
+                vk::BufferUsageFlagBits::eTransferDst, "indirect counters"),
+      bvh_(context, indirect_bvh_comp, kBindings, sizeof(BvhPush), "indirect rays (bvh)") {
+  update(scene);
+}
+
+void IndirectPass::update(const Scene& scene) {
+  const std::vector<shared::SceneTriangle> triangles = sceneTriangles(scene);
+  triangles_.upload(std::span<const shared::SceneTriangle>(triangles));
+}
+
+void IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  gpu::memoryBarrier(cmd, Stage::eComputeShader, Access::eShaderStorageRead | Access::eShaderStorageWrite,
+                     Stage::eTransfer, Access::eTransferWrite);
+  cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                     Access::eShaderStorageRead | Access::eShaderStorageWrite);
+}
+
+gpu::Descriptors IndirectPass::descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
+                                           const gpu::Buffer& output) const {
+  gpu::Descriptors d;
+  d.storageImage(INDIRECT_BINDING_POSITION, gbuffer.position().view())
+      .storageImage(INDIRECT_BINDING_NORMAL, gbuffer.normal().view())
+      .buffer(INDIRECT_BINDING_FRAME, frame)
+      .buffer(INDIRECT_BINDING_TRIANGLES, triangles_)
+      .buffer(INDIRECT_BINDING_OUTPUT, output)
+      .buffer(INDIRECT_BINDING_COUNTERS, counters_);
+  return d;
+}
+
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
+                          const gpu::Buffer& frame, const gpu::Buffer& output, const shared::IndirectParams& params,
+                          const BvhTracer& bvh) {
+  recordStart(cmd);
+  const gpu::ComputePipeline& pipeline = bvh_(params.mode == INDIRECT_BOUNCE);
+  pipeline.bind(cmd, descriptors(gbuffer, frame, output));
+  pipeline.pushConstants(cmd, BvhPush{params, bvh.tracePush()});
+  cmd.dispatch((gbuffer.width() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE,
+               (gbuffer.height() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE, 1);
+  gpu::computeToComputeAndHost(cmd);
+}
+
+TraceReport IndirectPass::report(std::uint64_t* shadowRays) const {
+  const auto words = counters_.download<std::uint32_t>(INDIRECT_COUNTER_WORDS);
+  auto value = [&](std::uint32_t low) { return std::uint64_t(words[low]) | (std::uint64_t(words[low + 1]) << 32); };
+  TraceReport r;
+  r.rays = value(INDIRECT_COUNTER_RAYS);
+  r.nodeVisits = value(INDIRECT_COUNTER_NODE_VISITS);
+  r.triangleTests = value(INDIRECT_COUNTER_TESTS);
+  if (shadowRays) *shadowRays = value(INDIRECT_COUNTER_SHADOW_RAYS);
+  return r;
+}
+
+}  // namespace penumbra

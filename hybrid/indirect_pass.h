@@ -1,0 +1,58 @@
+// Indirect rays on the GPU (shaders/indirect_trace.glsl): for every covered pixel of the G-buffer,
+// K cosine-weighted rays, giving ambient occlusion or one-bounce diffuse light per pixel in the
+// output buffer (vec4: rgb light, a occlusion). One kernel per tracer structure, each with one
+// pipeline per mode (a specialization constant). The scene's triangles (SceneTriangle) are
+// uploaded here for the hits' shading.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "gpu/pipeline.h"
+#include "raster/gbuffer_pass.h"
+#include "raytrace/bvh_tracer.h"
+#include "raytrace/shadow_tracer.h"
+#include "shared/indirect.h"
+
+namespace penumbra {
+
+// Methods ao and indirect (hybrid/indirect_method.cpp).
+struct IndirectSettings {
+  std::uint32_t rays = 16;   // per pixel
+  float aoRadius = 0.1f;     // ao: fraction of the scene radius
+  std::string tracer = "bvh";  // the tracer of `ao` and `indirect` without a -<tracer> suffix
+};
+
+// The tracers of methods ao and indirect (embree: the reference), and whether `name` is one.
+const std::vector<std::string>& indirectTracers();
+bool isIndirectTracer(const std::string& name);
+std::string indirectTracerList();  // "bvh, embree, ..."
+
+class IndirectPass {
+ public:
+  IndirectPass(const gpu::Context& context, const Scene& scene);
+  // The scene's dynamic meshes moved: rewrites their triangles (call between frames).
+  void update(const Scene& scene);
+
+  // Records the kernel on the BVH tracer's trees over the G-buffer, writing output (vec4 per
+  // pixel), after zeroing the counters.
+  void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
+              const gpu::Buffer& output, const shared::IndirectParams& params, const BvhTracer& bvh);
+  // After the submission: indirect rays (rays), node visits and triangle tests; shadowRays apart.
+  TraceReport report(std::uint64_t* shadowRays = nullptr) const;
+  std::uint64_t bytes() const { return triangles_.size(); }
+
+ private:
+  void recordStart(const vk::raii::CommandBuffer& cmd);
+  gpu::Descriptors descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
+                               const gpu::Buffer& output) const;
+
+  const gpu::Context& context_;
+  gpu::Buffer triangles_;
+  gpu::Buffer counters_;
+  gpu::SpecializedComputePipeline bvh_;
+};
+
+}  // namespace penumbra
