@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -45,6 +46,10 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method sm --scene builtin:square --view /nonexistent/view.json", "view.json"},
       {"compare --methods , --scene builtin:square", "--methods"},
       {"compare --methods srt --tracer nosuch --scene builtin:square", "--tracer"},
+      {"compare --methods ao --tracer rq --scene builtin:square", "--tracer"},
+      {"compare --methods srt,ao --tracer bvh,embree --scene builtin:square", "lists are for ao and indirect"},
+      {"render --method ao --indirect-rays 0 --scene builtin:square", "--indirect-rays"},
+      {"render --method ao --ao-radius -1 --scene builtin:square", "--ao-radius"},
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
       {"bench --scenes builtin:square --methods sm --shard 3/2", "--shard"},
@@ -127,6 +132,26 @@ TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
   // Written in a staging folder beside it and moved in whole: none is left behind.
   for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
     EXPECT_EQ(e.path().filename().string().find(".partial-"), std::string::npos) << e.path();
+  }
+}
+
+// ao and indirect on a list of tracers, each against its own Embree reference (same rays).
+TEST_F(Cli, CompareAoAndIndirectAgainstTheirOwnReferences) {
+  const Result r = run("compare --methods ao,indirect,sm --tracer bvh --scene builtin:courtyard:2 --res 48x48 "
+                       "--indirect-rays 4 --no-report --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto metrics = nlohmann::json::parse(slurp(dir_ / "out" / "metrics.json"));
+  ASSERT_EQ(metrics["references"].size(), 3u);
+  std::set<std::string> references;
+  for (const auto& ref : metrics["references"]) references.insert(ref["method"].get<std::string>());
+  EXPECT_EQ(references, (std::set<std::string>{"ao-embree", "indirect-embree", "ref"}));
+  ASSERT_EQ(metrics["methods"].size(), 3u);
+  for (const auto& m : metrics["methods"]) {
+    const std::string name = m["method"];
+    EXPECT_TRUE(fs::exists(dir_ / "out" / (name + ".heatmap.png"))) << name;
+    if (name == "sm") continue;
+    EXPECT_EQ(m["tracer"], "bvh") << name;
+    EXPECT_EQ(m["error"]["wrong_pixel_fraction"].get<double>(), 0.0) << name << ": the same rays as its reference";
   }
 }
 

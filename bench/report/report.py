@@ -274,20 +274,27 @@ def compare_report(dir_):
     with open(os.path.join(dir_, "metrics.json")) as f:
         metrics = json.load(f)
     ctx = metrics.get("scene", {})
+    # One reference per term: ref for shadows, ao-embree / indirect-embree for methods ao and indirect.
+    ref_stats = metrics.get("references") or [metrics["reference"]]
+    refs = {s.get("term", "shadow"): stats_to_row(s) for s in ref_stats}
     ref = stats_to_row(metrics["reference"])
     rows = [stats_to_row(s) for s in metrics.get("methods", [])]
-    for r in rows:
-        if ref["time_ms"] and r["time_ms"]:
-            r["speedup_vs_ref"] = ref["time_ms"] / r["time_ms"]
+    for s, r in zip(metrics.get("methods", []), rows):
+        own = refs.get(s.get("term", "shadow"), ref)
+        if own["time_ms"] and r["time_ms"]:
+            r["speedup_vs_ref"] = own["time_ms"] / r["time_ms"]
     chart = "speed_accuracy.png"
     speed_accuracy_chart(chart_points(rows, "rmse"), os.path.join(dir_, chart),
                          f"{ctx.get('scene', '')}: speed vs accuracy", "rmse", reference_ms=ref["time_ms"])
-    body = [context_note(ctx), "<h2>Images</h2>",
-            image_strip(dir_, [("ref.png", "ref (Embree): shaded"), ("ref.visibility.png", "ref: visibility")])]
+    body = [context_note(ctx), "<h2>Images</h2>"]
+    for s in ref_stats:
+        name = s["method"]
+        body.append(image_strip(dir_, [(name + ".png", f"{name} (Embree): shaded"),
+                                       (name + ".visibility.png", f"{name}: {s.get('term', 'shadow')} term")]))
     for r in rows:
         body.append(f"<h3>{esc(r['method'])}</h3>")
         body.append(image_strip(dir_, method_images("", r["method"], r["method"])))
-    header, table_rows = metrics_rows([dict(ref, speedup_vs_ref=1.0)] + rows)
+    header, table_rows = metrics_rows([dict(refs[k], speedup_vs_ref=1.0) for k in refs] + rows)
     body += ["<h2>Metrics</h2>", table(header, table_rows),
              "<p class='note'>Errors are over covered pixels, of the visibility buffer (fraction of the light "
              "visible) against the Embree reference; wrong = |error| &gt; " +
