@@ -313,6 +313,9 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
                         c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer.find(',') == std::string::npos ? c.tracer : "auto";  // a list: ao and indirect only
+  if (c.tracer.find(',') == std::string::npos && isIndirectTracer(c.tracer == "auto" ? "bvh" : c.tracer)) {
+    s.settings.indirect.tracer = c.tracer == "auto" ? "bvh" : c.tracer;  // bare ao and indirect (bench sweeps it)
+  }
   s.settings.indirect.rays = c.indirectRays;
   requireFinite(c.aoRadius, "--ao-radius");
   s.settings.indirect.aoRadius = c.aoRadius;

@@ -40,7 +40,8 @@ const std::vector<AxisDef>& sweepAxes() {
        "Maps of srt's penumbra mask with area lights: 1 (centre), 5 (and corners)"},
       {"--spp", "--spp", "spp", {"srt", "frt", "ls", "bitmask"}, true, false,
        "Light samples per pixel with area lights, e.g. 4,16 (srt, frt, ls, bitmask)"},
-      {"--tracer", "--tracer", "", {"srt", "frt"}, false, false, "Ray tracers of srt and frt, e.g. bvh,rq,embree"},
+      {"--tracer", "--tracer", "", {"srt", "frt", "ao", "indirect"}, false, false,
+       "Ray tracers of srt and frt, e.g. bvh,rq,embree; of ao and indirect, e.g. bvh,bvh-ls,ntree-ls"},
       {"--denoise", "--denoise", "denoise", {"srt", "frt"}, true, false,
        "Shadow denoiser of srt and frt with area lights, e.g. off,temporal"},
       {"--linespace-n", "--linespace-n", "N", {"srt", "frt", "ls"}, false, true,
@@ -166,6 +167,18 @@ std::uint32_t referenceSppOf(const Sweep& sweep, const std::vector<SweepConfig>&
   return spp ? spp : sweep.base.spp;
 }
 
+// Methods ao and indirect are compared with Embree's run of the same rays: the references a
+// group needs besides ref, one per term its configurations have.
+std::vector<std::string> termReferences(const std::vector<SweepConfig>& configs) {
+  std::vector<std::string> out;
+  for (const SweepConfig& config : configs) {
+    const Term term = makeMethod(config.method)->term();
+    const std::string reference = std::string(termName(term)) + "-embree";
+    if (term != Term::Shadow && std::find(out.begin(), out.end(), reference) == out.end()) out.push_back(reference);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string paramText(const std::string& option, const std::string& value) {
@@ -271,7 +284,7 @@ SweepResult runSweep(const Sweep& sweep) {
       mine[gi].push_back(index % sweep.shardCount == sweep.shardIndex);
     }
     const auto count = std::size_t(std::count(mine[gi].begin(), mine[gi].end(), true));
-    total += count ? 1 + count : 0;
+    total += count ? 1 + termReferences(groups[gi].configs).size() + count : 0;
   }
   Progress progress(total, sweep.progress);
 
@@ -361,6 +374,10 @@ SweepResult runSweep(const Sweep& sweep) {
     };
     std::vector<Job> jobs;
     jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
+    for (const std::string& reference : termReferences(g.configs)) {
+      jobs.push_back({nullptr, reference, g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
+    }
+    const std::size_t references = jobs.size();
     for (const SweepConfig& config : g.configs) {
       if (!mine[gi][std::size_t(&config - g.configs.data())]) continue;
       RunConfig runConfig = g.reference;
@@ -374,7 +391,7 @@ SweepResult runSweep(const Sweep& sweep) {
       return job.frames->next(*job.renderer, (job.config ? job.setup : refSetup).camera, light);
     };
     auto start = [&](Job& job) {
-      progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : "ref"));
+      progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : job.method));
       const RunSetup& s = job.config ? job.setup : refSetup;
       job.renderer = std::make_unique<Renderer>(context, refSetup.scene, s.settings);
       job.frames.emplace(job.runConfig, s.settings, job.method);
@@ -415,28 +432,42 @@ SweepResult runSweep(const Sweep& sweep) {
       }
     }
 
-    const Frame reference = medianFrame(jobs[0].runs);
-    referenceSpp = reference.stats.samplesPerPixel;
+    std::vector<Frame> referenceFrames;  // jobs [0, references): ref, then ao-embree / indirect-embree
     const bool soft = refSetup.light.size > 0.0f;
     const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
-    nlohmann::json refRow = row(reference, jobs[0].run, nullptr, reference.stats.totalMs);
     const auto orNull = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
-    refRow["temporal_change"] = refRow["ref_temporal_change"] = orNull(jobs[0].temporalChange);
-    if (!imagesDir.empty()) {
-      writeFrame(imagesDir, reference, jobs[0].run);
-      refRow["images"] = {{"image", imagesRel + "ref.png"}};
+    nlohmann::json refRow;
+    for (std::size_t j = 0; j < references; ++j) {
+      referenceFrames.push_back(medianFrame(jobs[j].runs));
+      const Frame& reference = referenceFrames.back();
+      if (j == 0) referenceSpp = reference.stats.samplesPerPixel;
+      nlohmann::json r = row(reference, jobs[j].run, nullptr, reference.stats.totalMs);
+      r["config"] = -1 - std::ptrdiff_t(j);  // -1 for ref: rows stay unique per (group, config) for --merge
+      r["temporal_change"] = r["ref_temporal_change"] = orNull(jobs[j].temporalChange);
+      if (!imagesDir.empty()) {
+        writeFrame(imagesDir, reference, jobs[j].run);
+        r["images"] = {{"image", imagesRel + jobs[j].method + ".png"}};
+      }
+      if (j == 0) refRow = r;
+      result.rows.push_back(std::move(r));
     }
-    result.rows.push_back(refRow);
+    auto referenceOf = [&](const Frame& frame) -> const Frame& {
+      for (const Frame& r : referenceFrames) {
+        if (r.stats.term == frame.stats.term) return r;
+      }
+      return referenceFrames.front();
+    };
 
     // Images of each method's first configuration in the group (whichever shard measures it).
     auto firstOfMethod = [&](const SweepConfig& c) {
       return &c == &*std::find_if(g.configs.begin(), g.configs.end(), [&](const SweepConfig& o) { return o.method == c.method; });
     };
-    for (std::size_t j = 1; j < jobs.size(); ++j) {
+    for (std::size_t j = references; j < jobs.size(); ++j) {
       const SweepConfig& config = *jobs[j].config;
       const nlohmann::json& run = jobs[j].run;
       Frame frame = medianFrame(jobs[j].runs);
       jobs[j].runs.clear();
+      const Frame& reference = referenceOf(frame);
       frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, threshold);
       const bool picture = !imagesDir.empty() && firstOfMethod(config);
       std::vector<float> flip;
