@@ -37,7 +37,7 @@ class CandidateTracer {
   // maxStorageBufferRange (before building them); std::runtime_error without subgroup arithmetic.
   CandidateTracer(const gpu::Context& context, const Scene& scene, const CandidateTracerSettings& settings);
   // The same BVH, but line spaces on `boxes` instead (no BVH node uses them: the BVH modes are exact,
-  // traceBox asks one of them); for tests.
+  // traceBox asks one of them); for tests. An empty `boxes` means the placement at settings.depth.
   CandidateTracer(const gpu::Context& context, const Scene& scene, std::span<const CandidateBox> boxes,
                   const CandidateTracerSettings& settings);
 

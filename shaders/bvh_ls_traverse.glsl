@@ -6,7 +6,10 @@
 // the BVH_BINDING_* buffers, the counter buffer or BVH_NO_COUNTERS, the subgroup extensions) and
 // what candidate_lookup.glsl needs (CS_PARAMS, the CS_BINDING_* buffers), and binds the per-node
 // map at CS_BINDING_NODE_MAP. Statistics of the calling invocation: bvhNodeVisits,
-// bvhTriangleTests (exact triangles) and csCandidateTests (candidate planes).
+// bvhTriangleTests (exact triangles) and csCandidateTests (candidate planes). It includes
+// bvh_traverse.glsl and candidate_lookup.glsl itself (both guarded, so including them again is harmless).
+#ifndef PENUMBRA_BVH_LS_TRAVERSE_GLSL
+#define PENUMBRA_BVH_LS_TRAVERSE_GLSL
 #include "bvh_traverse.glsl"
 #include "candidate_lookup.glsl"
 
@@ -96,3 +99,4 @@ RayHit bvhLsClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, bool useLi
   }
   return hit;
 }
+#endif  // PENUMBRA_BVH_LS_TRAVERSE_GLSL

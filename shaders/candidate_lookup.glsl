@@ -9,6 +9,8 @@
 // csHit clips the ray's infinite line to the line space's box (a ray starting inside still uses the
 // line's entry, as in the paper), finds the directed shaft of its entry and exit patches, and
 // intersects the shaft's candidate triangle as an infinite plane.
+#ifndef PENUMBRA_CANDIDATE_LOOKUP_GLSL
+#define PENUMBRA_CANDIDATE_LOOKUP_GLSL
 #include "shared/candidates.h"
 #include "shared/gbuffer.h"
 #include "shared/linespace.h"
@@ -129,3 +131,4 @@ bool csHit(uint ls, vec3 origin, vec3 dir, float tMin, float tMax, out float t, 
   triangle = candidate;
   return true;
 }
+#endif  // PENUMBRA_CANDIDATE_LOOKUP_GLSL
