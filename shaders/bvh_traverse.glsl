@@ -11,6 +11,8 @@
 // inner children are entered nearer first with the farther one on a short per-invocation stack.
 // The triangle test is Embree's robust one (origin-shifted Pluecker edge tests), so rays that
 // hit a shared edge or vertex find a triangle here exactly when they do in the reference.
+#ifndef PENUMBRA_BVH_TRAVERSE_GLSL
+#define PENUMBRA_BVH_TRAVERSE_GLSL
 #include "shared/bvh.h"
 
 #ifdef BVH_ADDRESSES
@@ -207,3 +209,4 @@ void bvhAddCounters(uint rays) {
   }
 }
 #endif  // BVH_NO_COUNTERS
+#endif  // PENUMBRA_BVH_TRAVERSE_GLSL
