@@ -162,6 +162,14 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
   app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--bvh-ls-depth", c.bvhLsDepth,
+                 "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes "
+                 "at this depth (root 0); deeper = closer to exact, more memory")
+      ->capture_default_str()->check(CLI::Range(0u, 30u));
+  app.add_option("--candidate-deviation", c.candidateDeviation,
+                 "Candidate line spaces: drop a plane hit whose extrapolated normal leans more than this many degrees "
+                 "from the candidate's face normal (180 keeps all)")
+      ->capture_default_str()->check(CLI::Range(0.0f, 180.0f));
   app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
   app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
   app.add_option("--linespace-budget", c.linespaceBudgetMb,
@@ -319,7 +327,13 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.indirect.rays = c.indirectRays;
   requireFinite(c.aoRadius, "--ao-radius");
   s.settings.indirect.aoRadius = c.aoRadius;
-  const bool lineSpace = c.tracer == "ls" || std::find(methods.begin(), methods.end(), "ls") != methods.end();
+  s.settings.indirect.bvhDepth = c.bvhLsDepth;
+  s.settings.indirect.maxDeviationDeg = c.candidateDeviation;
+  // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth.
+  bool lineSpace = std::find(methods.begin(), methods.end(), "ls") != methods.end();
+  for (const std::string& t : c.tracer.empty() ? std::vector<std::string>{} : splitList(c.tracer)) {
+    lineSpace = lineSpace || t == "ls" || t == "bvh-ls" || t.rfind("ntree", 0) == 0;
+  }
   if (lineSpace) NTreeBuilder::validate(c.linespaceN, c.linespaceDepth);
   if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {
     throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");

@@ -44,12 +44,16 @@ class IndirectMethod final : public Method {
       r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
       r.timer().end(cmd);
     };
-    if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "' for " + termName(term_) + "; use bvh or embree");
-    BvhTracer& bvh = dynamic_cast<BvhTracer&>(r.tracer(stats, "bvh"));
+    if (!isIndirectTracer(tracer)) {
+      throw InputError("unknown tracer '" + tracer + "' for " + termName(term_) + "; use " + indirectTracerList());
+    }
+    BvhTracer* bvh = tracer == "bvh" ? &dynamic_cast<BvhTracer&>(r.tracer(stats, "bvh")) : nullptr;
+    const CandidateTracer* candidates = tracer == "bvh-ls" ? &r.candidateTracer(stats) : nullptr;
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       recordDirect(cmd);
       r.timer().begin(cmd, "indirect");
-      pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, bvh);
+      if (bvh) pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, *bvh);
+      else pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, *candidates);
       r.timer().end(cmd);
     });
     report(pass, stats);

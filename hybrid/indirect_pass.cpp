@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "indirect_bvh_comp.h"
+#include "indirect_bvh_ls_comp.h"
 #include "raytrace/scene_triangles.h"
 
 namespace penumbra {
@@ -14,9 +15,21 @@ constexpr gpu::Binding kBindings[] = {{INDIRECT_BINDING_POSITION, kImage},  {IND
                                       {INDIRECT_BINDING_FRAME, kBuffer},    {INDIRECT_BINDING_TRIANGLES, kBuffer},
                                       {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer}};
 
+// bvh-ls: the candidate line space's buffers instead of this pass's triangles.
+constexpr gpu::Binding kLsBindings[] = {
+    {INDIRECT_BINDING_POSITION, kImage}, {INDIRECT_BINDING_NORMAL, kImage}, {INDIRECT_BINDING_FRAME, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},  {INDIRECT_BINDING_COUNTERS, kBuffer}, {CS_BINDING_BOXES, kBuffer},
+    {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},        {CS_BINDING_CANDIDATES, kBuffer},
+    {CS_BINDING_NODE_MAP, kBuffer},      {CS_BINDING_SCENE_TRIANGLES, kBuffer}};
+
 struct BvhPush {
   shared::IndirectParams params;
   shared::BvhTracePush bvh;
+};
+struct BvhLsPush {
+  shared::IndirectParams params;
+  shared::BvhTracePush bvh;
+  shared::CsParams cs;
 };
 static_assert(sizeof(shared::IndirectParams) == 32, "IndirectParams must match std430");
 
@@ -27,7 +40,7 @@ vk::DeviceSize triangleBytes(const Scene& scene) {
 }  // namespace
 
 const std::vector<std::string>& indirectTracers() {
-  static const std::vector<std::string> names{"bvh", "embree"};
+  static const std::vector<std::string> names{"bvh", "bvh-ls", "embree"};
   return names;
 }
 
@@ -46,7 +59,8 @@ IndirectPass::IndirectPass(const gpu::Context& context, const Scene& scene)
       triangles_(context, triangleBytes(scene), vk::BufferUsageFlagBits::eStorageBuffer, "scene triangles"),
       counters_(context, INDIRECT_COUNTER_WORDS * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer |
                 vk::BufferUsageFlagBits::eTransferDst, "indirect counters"),
-      bvh_(context, indirect_bvh_comp, kBindings, sizeof(BvhPush), "indirect rays (bvh)") {
+      bvh_(context, indirect_bvh_comp, kBindings, sizeof(BvhPush), "indirect rays (bvh)"),
+      bvhLs_(context, indirect_bvh_ls_comp, kLsBindings, sizeof(BvhLsPush), "indirect rays (bvh-ls)") {
   update(scene);
 }
 
@@ -66,15 +80,21 @@ void IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd) {
 }
 
 gpu::Descriptors IndirectPass::descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-                                           const gpu::Buffer& output) const {
+                                           const gpu::Buffer& output, bool ownTriangles) const {
   gpu::Descriptors d;
   d.storageImage(INDIRECT_BINDING_POSITION, gbuffer.position().view())
       .storageImage(INDIRECT_BINDING_NORMAL, gbuffer.normal().view())
       .buffer(INDIRECT_BINDING_FRAME, frame)
-      .buffer(INDIRECT_BINDING_TRIANGLES, triangles_)
       .buffer(INDIRECT_BINDING_OUTPUT, output)
       .buffer(INDIRECT_BINDING_COUNTERS, counters_);
+  if (ownTriangles) d.buffer(INDIRECT_BINDING_TRIANGLES, triangles_);
   return d;
+}
+
+void IndirectPass::dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer) const {
+  cmd.dispatch((gbuffer.width() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE,
+               (gbuffer.height() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE, 1);
+  gpu::computeToComputeAndHost(cmd);
 }
 
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
@@ -84,9 +104,18 @@ void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuf
   const gpu::ComputePipeline& pipeline = bvh_(params.mode == INDIRECT_BOUNCE);
   pipeline.bind(cmd, descriptors(gbuffer, frame, output));
   pipeline.pushConstants(cmd, BvhPush{params, bvh.tracePush()});
-  cmd.dispatch((gbuffer.width() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE,
-               (gbuffer.height() + INDIRECT_GROUP_SIZE - 1) / INDIRECT_GROUP_SIZE, 1);
-  gpu::computeToComputeAndHost(cmd);
+  dispatch(cmd, gbuffer);
+}
+
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
+                          const gpu::Buffer& frame, const gpu::Buffer& output, const shared::IndirectParams& params,
+                          const CandidateTracer& candidates) {
+  recordStart(cmd);
+  const gpu::ComputePipeline& pipeline = bvhLs_(params.mode == INDIRECT_BOUNCE);
+  gpu::Descriptors d = descriptors(gbuffer, frame, output, false);
+  pipeline.bind(cmd, candidates.addBindings(d));
+  pipeline.pushConstants(cmd, BvhLsPush{params, {candidates.bvhAddresses(), BVH_NO_TREE, 0u, 0u, 0u}, candidates.params()});
+  dispatch(cmd, gbuffer);
 }
 
 TraceReport IndirectPass::report(std::uint64_t* shadowRays) const {

@@ -13,6 +13,7 @@
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
 #include "raytrace/bvh_tracer.h"
+#include "raytrace/candidate_tracer.h"
 #include "raytrace/shadow_tracer.h"
 #include "shared/indirect.h"
 
@@ -23,6 +24,10 @@ struct IndirectSettings {
   std::uint32_t rays = 16;   // per pixel
   float aoRadius = 0.1f;     // ao: fraction of the scene radius
   std::string tracer = "bvh";  // the tracer of `ao` and `indirect` without a -<tracer> suffix
+  // bvh-ls: candidate line spaces (N from RenderSettings::lineSpace) at the BVH's inner nodes at
+  // this depth, and the normal test of their plane hits.
+  std::uint32_t bvhDepth = 9;
+  float maxDeviationDeg = 30.0f;
 };
 
 // The tracers of methods ao and indirect (embree: the reference), and whether `name` is one.
@@ -40,19 +45,24 @@ class IndirectPass {
   // pixel), after zeroing the counters.
   void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
               const gpu::Buffer& output, const shared::IndirectParams& params, const BvhTracer& bvh);
+  // The same on the BVH with candidate line spaces (bvh-ls): ao and bounce rays approximate.
+  void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
+              const gpu::Buffer& output, const shared::IndirectParams& params, const CandidateTracer& candidates);
   // After the submission: indirect rays (rays), node visits and triangle tests; shadowRays apart.
   TraceReport report(std::uint64_t* shadowRays = nullptr) const;
   std::uint64_t bytes() const { return triangles_.size(); }
 
  private:
   void recordStart(const vk::raii::CommandBuffer& cmd);
-  gpu::Descriptors descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-                               const gpu::Buffer& output) const;
+  // ownTriangles: bind this pass's scene triangles (tracers that bind their own leave them out)
+  gpu::Descriptors descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame, const gpu::Buffer& output,
+                               bool ownTriangles = true) const;
+  void dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer) const;
 
   const gpu::Context& context_;
   gpu::Buffer triangles_;
   gpu::Buffer counters_;
-  gpu::SpecializedComputePipeline bvh_;
+  gpu::SpecializedComputePipeline bvh_, bvhLs_;
 };
 
 }  // namespace penumbra

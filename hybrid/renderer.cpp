@@ -66,6 +66,28 @@ IndirectPass& Renderer::indirectPass(FrameStats& stats) {
   return *indirectPass_;
 }
 
+const CandidateTracer& Renderer::candidateTracer(FrameStats& stats) {
+  if (!candidates_) {
+    CandidateTracerSettings s;
+    s.n = settings_.lineSpace.n;
+    s.depth = settings_.indirect.bvhDepth;
+    s.maxNormalDeviationDeg = settings_.indirect.maxDeviationDeg;
+    s.budgetBytes = settings_.lineSpace.budgetBytes;
+    candidates_ = std::make_unique<CandidateTracer>(context_, scene_, s);
+  }
+  const CandidateStats& ls = candidates_->lineSpace().stats;
+  stats.setupMs["candidate_build"] = ls.buildMs + candidates_->bvh().stats.buildMs;
+  stats.memoryBytes["bvh_ls"] = candidates_->bytes();
+  char note[240];
+  std::snprintf(note, sizeof(note),
+                "candidate line space (N=%u, BVH depth %u): %llu line spaces, %.1f%% of shafts filled, %.1f MB sparse "
+                "(dense %.1f MB), built in %.0f ms",
+                ls.n, settings_.indirect.bvhDepth, (unsigned long long)ls.boxes, 100.0 * ls.filledFraction,
+                double(ls.sparseBytes) / 1e6, double(ls.denseBytes) / 1e6, ls.buildMs);
+  stats.notes.push_back(note);
+  return *candidates_;
+}
+
 const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
   stats.setupMs["embree_build"] = embree_->buildMs();  // one-time, reported with every frame that uses it
@@ -121,6 +143,7 @@ void Renderer::sceneMoved() {
   geometry_.update(scene_);
   embree_.reset();
   if (indirectPass_) indirectPass_->update(scene_);
+  candidates_.reset();  // one tree over every mesh: built again on next use
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
   // else the line space's (both hold the same tree over the same triangles).
   std::optional<BvhRefitReport> traced;

@@ -103,6 +103,9 @@ class Renderer {
   // to the direct light for their frames.
   gpu::Buffer& indirect() { return indirect_; }
   IndirectPass& indirectPass(FrameStats& stats);  // made on first use
+  // Tracer bvh-ls of ao and indirect: the BVH with candidate line spaces, built on first use (and
+  // again after sceneMoved), its build and memory in stats.
+  const CandidateTracer& candidateTracer(FrameStats& stats);
   const gpu::Buffer& traceFlags() const { return traceFlags_; }  // srt: nonzero where the pixel was traced
   // Mean blocker distance per traced pixel, written by the GPU tracers when settings().denoise is on.
   const gpu::Buffer& blockers() const { return blockers_; }
@@ -181,6 +184,7 @@ class Renderer {
   std::unique_ptr<RayQueryTracer> rayQuery_;
   std::unique_ptr<LineSpaceTracer> lineSpace_;
   std::unique_ptr<IndirectPass> indirectPass_;
+  std::unique_ptr<CandidateTracer> candidates_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;

@@ -21,7 +21,7 @@ bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t,
   triangle = hit.triangle;
   return hit.triangle != BVH_NO_HIT;
 }
-bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
+bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax, bool aoRay) {
   return bvhAnyHitRecord(origin, dir, tMin, tMax, bvhPush.dynamicRoot).triangle != BVH_NO_HIT;
 }
 uint indirectVisits() { return bvhNodeVisits; }

@@ -2,8 +2,10 @@
 // rays (shared/indirect.h), written to output[pixel] = (rgb one-bounce light, occlusion). The
 // includer declares its push constants with an IndirectParams `params`, its structure, and:
 //   bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle)
-//   bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax)
+//   bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax, bool aoRay)  (aoRay: an ao
+//     ray; else a shadow ray from a bounce's hit)
 //   uint indirectVisits(), uint indirectTests()  (this invocation's traversal counts)
+// and, where its structure already binds the scene's triangles, INDIRECT_TRIANGLES naming them.
 // Not compiled on its own; includers enable GL_KHR_shader_subgroup_basic and _arithmetic.
 #include "shared/frame.h"
 #include "shared/indirect.h"
@@ -13,7 +15,10 @@ layout(constant_id = 0) const bool kBounce = false;  // INDIRECT_BOUNCE: one pip
 layout(binding = INDIRECT_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(binding = INDIRECT_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
 layout(std430, binding = INDIRECT_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+#ifndef INDIRECT_TRIANGLES
 layout(std430, binding = INDIRECT_BINDING_TRIANGLES) readonly buffer Triangles { SceneTriangle sceneTriangles[]; };
+#define INDIRECT_TRIANGLES sceneTriangles
+#endif
 layout(std430, binding = INDIRECT_BINDING_OUTPUT) writeonly buffer Output { vec4 indirectOut[]; };
 layout(std430, binding = INDIRECT_BINDING_COUNTERS) buffer Counters { uint indirectCounters[INDIRECT_COUNTER_WORDS]; };
 
@@ -49,16 +54,16 @@ void main() {
         vec3 dir = indirectDirection(pixel, k, count, params.frame, n);
         ++rays;
         if (!kBounce) {
-          if (indirectOccluded(origin, dir, 0.0f, params.aoRadius)) ++blocked;
+          if (indirectOccluded(origin, dir, 0.0f, params.aoRadius, true)) ++blocked;
           continue;
         }
         float t;
         uint triangle;
         if (!indirectClosest(origin, dir, 0.0f, params.rayMax, t, triangle)) continue;
-        IndirectHit hit = indirectHit(sceneTriangles[triangle], origin, dir, t, light);
+        IndirectHit hit = indirectHit(INDIRECT_TRIANGLES[triangle], origin, dir, t, light);
         if (!hit.lit) continue;
         ++shadowRays;
-        if (!indirectOccluded(hit.shadowOrigin, hit.toLight, 0.0f, hit.shadowEnd)) light3 += hit.reflected;
+        if (!indirectOccluded(hit.shadowOrigin, hit.toLight, 0.0f, hit.shadowEnd, false)) light3 += hit.reflected;
       }
       result = vec4(light3 / float(count), float(blocked) / float(count));
     }
