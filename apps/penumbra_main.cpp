@@ -77,7 +77,9 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
   if (compare) {
     for (std::size_t i = references.size(); i < frames.size(); ++i) {
       const Frame& reference = frames[referenceOf[i]];
-      frames[i].stats.error = compareVisibility(frames[i].visibility, reference.visibility, reference.covered, threshold);
+      // ao and indirect are continuous terms: the soft threshold, whatever the light
+      const float wrong = frames[i].stats.term ? kWrongThresholdSoft : threshold;
+      frames[i].stats.error = compareVisibility(frames[i].visibility, reference.visibility, reference.covered, wrong);
       frames[i].stats.imageError = compareImages(frames[i].rgba, reference.rgba, reference.covered, frames[i].width,
                                                  frames[i].height, &flipMaps[i]);
       if (!frames[i].pip.empty()) {
@@ -105,6 +107,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
     metrics["references"] = nlohmann::json::array();
     for (std::size_t r = 0; r < references.size(); ++r) metrics["references"].push_back(frames[r].stats.toJson());
     metrics["scene"]["wrong_pixel_threshold"] = threshold;
+    if (references.size() > 1 || references.front() != "ref") metrics["scene"]["wrong_pixel_threshold_ao_indirect"] = kWrongThresholdSoft;
     metrics["scene"]["heatmap_full_scale"] = heatmapScale;
     metrics["scene"]["flip_pixels_per_degree"] = FlipSettings{}.pixelsPerDegree;
     for (std::size_t i = references.size(); i < frames.size(); ++i) {

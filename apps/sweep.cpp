@@ -468,7 +468,9 @@ SweepResult runSweep(const Sweep& sweep) {
       Frame frame = medianFrame(jobs[j].runs);
       jobs[j].runs.clear();
       const Frame& reference = referenceOf(frame);
-      frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, threshold);
+      // ao and indirect are continuous terms: the soft threshold, whatever the light
+      const float wrong = frame.stats.term ? kWrongThresholdSoft : threshold;
+      frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, wrong);
       const bool picture = !imagesDir.empty() && firstOfMethod(config);
       std::vector<float> flip;
       frame.stats.imageError =
