@@ -162,6 +162,10 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
   app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--hit-light", c.hitLight,
+                 "Method indirect: a bounce's hit sees the light through a shadow ray (exact) or the light's shadow map "
+                 "(sm's answer, no ray); the Embree reference always traces the ray")
+      ->capture_default_str()->check(CLI::IsMember({"shadow-ray", "shadow-map"}));
   app.add_option("--bvh-ls-depth", c.bvhLsDepth,
                  "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes "
                  "at this depth (root 0); deeper = closer to exact, more memory")
@@ -328,6 +332,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   requireFinite(c.aoRadius, "--ao-radius");
   s.settings.indirect.aoRadius = c.aoRadius;
   s.settings.indirect.bvhDepth = c.bvhLsDepth;
+  s.settings.indirect.hitShadowMap = c.hitLight == "shadow-map";
   s.settings.indirect.maxDeviationDeg = c.candidateDeviation;
   // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth.
   bool lineSpace = std::find(methods.begin(), methods.end(), "ls") != methods.end();

@@ -45,6 +45,7 @@ struct RunConfig {
   std::string tracer = "auto";  // one tracer, or for methods ao and indirect a comma-separated list
   std::uint32_t indirectRays = 16;  // ao / indirect: rays per pixel
   float aoRadius = 0.1f;            // ao: fraction of the scene radius
+  std::string hitLight = "shadow-ray";  // indirect: how a bounce's hit sees the light
   std::uint32_t bvhLsDepth = 9;     // tracer bvh-ls: BVH depth of the candidate line spaces
   float candidateDeviation = 30.0f;  // candidate line spaces: largest extrapolated-normal deviation, degrees
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth

@@ -32,7 +32,11 @@ class IndirectMethod final : public Method {
     params.frame = r.frameData().light.sampleFrame;
     params.aoRadius = s.indirect.aoRadius * radius;
     params.rayMax = 4.0f * radius;
+    params.hitLight = s.indirect.hitShadowMap ? INDIRECT_HIT_SHADOW_MAP : INDIRECT_HIT_SHADOW_RAY;
     stats.tracer = tracer;
+    if (term_ == Term::Indirect && s.indirect.hitShadowMap && tracer != "embree") {
+      stats.notes.push_back("the bounces' hits see the light through the shadow map (--hit-light shadow-map)");
+    }
     stats.term = termName(term_);
     if (tracer == "embree") return runReference(r, stats, params);
 
@@ -52,8 +56,9 @@ class IndirectMethod final : public Method {
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       recordDirect(cmd);
       r.timer().begin(cmd, "indirect");
-      if (bvh) pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, *bvh);
-      else pass.record(cmd, r.gbuffer(), r.frameBuffer(), r.indirect(), params, *candidates);
+      const IndirectTargets targets{r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.indirect()};
+      if (bvh) pass.record(cmd, targets, params, *bvh);
+      else pass.record(cmd, targets, params, *candidates);
       r.timer().end(cmd);
     });
     report(pass, stats);

@@ -11,14 +11,17 @@ namespace {
 
 constexpr vk::DescriptorType kImage = vk::DescriptorType::eStorageImage;
 constexpr vk::DescriptorType kBuffer = vk::DescriptorType::eStorageBuffer;
-constexpr gpu::Binding kBindings[] = {{INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},
-                                      {INDIRECT_BINDING_FRAME, kBuffer},    {INDIRECT_BINDING_TRIANGLES, kBuffer},
-                                      {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer}};
+constexpr vk::DescriptorType kSampled = vk::DescriptorType::eCombinedImageSampler;
+constexpr gpu::Binding kBindings[] = {
+    {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
+    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}};
 
 // bvh-ls: the candidate line space's buffers instead of this pass's triangles.
 constexpr gpu::Binding kLsBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage}, {INDIRECT_BINDING_NORMAL, kImage}, {INDIRECT_BINDING_FRAME, kBuffer},
-    {INDIRECT_BINDING_OUTPUT, kBuffer},  {INDIRECT_BINDING_COUNTERS, kBuffer}, {CS_BINDING_BOXES, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},  {INDIRECT_BINDING_COUNTERS, kBuffer}, {INDIRECT_BINDING_SHADOW_MAP, kSampled},
+    {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {CS_BINDING_BOXES, kBuffer},
     {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},        {CS_BINDING_CANDIDATES, kBuffer},
     {CS_BINDING_NODE_MAP, kBuffer},      {CS_BINDING_SCENE_TRIANGLES, kBuffer}};
 
@@ -79,14 +82,15 @@ void IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd) {
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
 }
 
-gpu::Descriptors IndirectPass::descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-                                           const gpu::Buffer& output, bool ownTriangles) const {
+gpu::Descriptors IndirectPass::descriptors(const IndirectTargets& t, bool ownTriangles) const {
   gpu::Descriptors d;
-  d.storageImage(INDIRECT_BINDING_POSITION, gbuffer.position().view())
-      .storageImage(INDIRECT_BINDING_NORMAL, gbuffer.normal().view())
-      .buffer(INDIRECT_BINDING_FRAME, frame)
-      .buffer(INDIRECT_BINDING_OUTPUT, output)
-      .buffer(INDIRECT_BINDING_COUNTERS, counters_);
+  d.storageImage(INDIRECT_BINDING_POSITION, t.gbuffer.position().view())
+      .storageImage(INDIRECT_BINDING_NORMAL, t.gbuffer.normal().view())
+      .buffer(INDIRECT_BINDING_FRAME, t.frame)
+      .buffer(INDIRECT_BINDING_OUTPUT, t.output)
+      .buffer(INDIRECT_BINDING_COUNTERS, counters_)
+      .sampledImage(INDIRECT_BINDING_SHADOW_MAP, t.shadowMap.depth().view(), t.shadowMap.sampler())
+      .buffer(INDIRECT_BINDING_SHADOW_TEXELS, t.shadowMap.texels());
   if (ownTriangles) d.buffer(INDIRECT_BINDING_TRIANGLES, triangles_);
   return d;
 }
@@ -97,25 +101,24 @@ void IndirectPass::dispatch(const vk::raii::CommandBuffer& cmd, const raster::GB
   gpu::computeToComputeAndHost(cmd);
 }
 
-void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
-                          const gpu::Buffer& frame, const gpu::Buffer& output, const shared::IndirectParams& params,
-                          const BvhTracer& bvh) {
+// Each kernel's pipeline is specialized on how the light's map is read (light_texels.glsl).
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
+                          const shared::IndirectParams& params, const BvhTracer& bvh) {
   recordStart(cmd);
-  const gpu::ComputePipeline& pipeline = bvh_(params.mode == INDIRECT_BOUNCE);
-  pipeline.bind(cmd, descriptors(gbuffer, frame, output));
+  const gpu::ComputePipeline& pipeline = bvh_(targets.shadowMap.hasTexelCopy());
+  pipeline.bind(cmd, descriptors(targets));
   pipeline.pushConstants(cmd, BvhPush{params, bvh.tracePush()});
-  dispatch(cmd, gbuffer);
+  dispatch(cmd, targets.gbuffer);
 }
 
-void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
-                          const gpu::Buffer& frame, const gpu::Buffer& output, const shared::IndirectParams& params,
-                          const CandidateTracer& candidates) {
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
+                          const shared::IndirectParams& params, const CandidateTracer& candidates) {
   recordStart(cmd);
-  const gpu::ComputePipeline& pipeline = bvhLs_(params.mode == INDIRECT_BOUNCE);
-  gpu::Descriptors d = descriptors(gbuffer, frame, output, false);
+  const gpu::ComputePipeline& pipeline = bvhLs_(targets.shadowMap.hasTexelCopy());
+  gpu::Descriptors d = descriptors(targets, false);
   pipeline.bind(cmd, candidates.addBindings(d));
   pipeline.pushConstants(cmd, BvhLsPush{params, {candidates.bvhAddresses(), BVH_NO_TREE, 0u, 0u, 0u}, candidates.params()});
-  dispatch(cmd, gbuffer);
+  dispatch(cmd, targets.gbuffer);
 }
 
 TraceReport IndirectPass::report(std::uint64_t* shadowRays) const {

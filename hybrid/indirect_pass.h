@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
+#include "raster/shadow_map_pass.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/candidate_tracer.h"
 #include "raytrace/shadow_tracer.h"
@@ -28,6 +29,16 @@ struct IndirectSettings {
   // this depth, and the normal test of their plane hits.
   std::uint32_t bvhDepth = 9;
   float maxDeviationDeg = 30.0f;
+  bool hitShadowMap = false;  // indirect: the bounces' hits see the light through the shadow map, not a shadow ray
+};
+
+// What the kernels read and write: the camera's G-buffer, the light's map (for hits that look the
+// light up in it), the frame data and the output (vec4 per pixel).
+struct IndirectTargets {
+  const raster::GBufferPass& gbuffer;
+  const raster::ShadowMapPass& shadowMap;
+  const gpu::Buffer& frame;
+  const gpu::Buffer& output;
 };
 
 // The tracers of methods ao and indirect (embree: the reference), and whether `name` is one.
@@ -41,13 +52,13 @@ class IndirectPass {
   // The scene's dynamic meshes moved: rewrites their triangles (call between frames).
   void update(const Scene& scene);
 
-  // Records the kernel on the BVH tracer's trees over the G-buffer, writing output (vec4 per
-  // pixel), after zeroing the counters.
-  void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-              const gpu::Buffer& output, const shared::IndirectParams& params, const BvhTracer& bvh);
+  // Records the kernel on the BVH tracer's trees over the G-buffer, writing the output, after
+  // zeroing the counters.
+  void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
+              const BvhTracer& bvh);
   // The same on the BVH with candidate line spaces (bvh-ls): ao and bounce rays approximate.
-  void record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-              const gpu::Buffer& output, const shared::IndirectParams& params, const CandidateTracer& candidates);
+  void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
+              const CandidateTracer& candidates);
   // After the submission: indirect rays (rays), node visits and triangle tests; shadowRays apart.
   TraceReport report(std::uint64_t* shadowRays = nullptr) const;
   std::uint64_t bytes() const { return triangles_.size(); }
@@ -55,8 +66,7 @@ class IndirectPass {
  private:
   void recordStart(const vk::raii::CommandBuffer& cmd);
   // ownTriangles: bind this pass's scene triangles (tracers that bind their own leave them out)
-  gpu::Descriptors descriptors(const raster::GBufferPass& gbuffer, const gpu::Buffer& frame, const gpu::Buffer& output,
-                               bool ownTriangles = true) const;
+  gpu::Descriptors descriptors(const IndirectTargets& targets, bool ownTriangles = true) const;
   void dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer) const;
 
   const gpu::Context& context_;

@@ -11,7 +11,6 @@
 #include "shared/indirect.h"
 
 layout(local_size_x = INDIRECT_GROUP_SIZE, local_size_y = INDIRECT_GROUP_SIZE) in;
-layout(constant_id = 0) const bool kBounce = false;  // INDIRECT_BOUNCE: one pipeline per mode
 layout(binding = INDIRECT_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(binding = INDIRECT_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
 layout(std430, binding = INDIRECT_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
@@ -21,6 +20,10 @@ layout(std430, binding = INDIRECT_BINDING_TRIANGLES) readonly buffer Triangles {
 #endif
 layout(std430, binding = INDIRECT_BINDING_OUTPUT) writeonly buffer Output { vec4 indirectOut[]; };
 layout(std430, binding = INDIRECT_BINDING_COUNTERS) buffer Counters { uint indirectCounters[INDIRECT_COUNTER_WORDS]; };
+layout(binding = INDIRECT_BINDING_SHADOW_MAP) uniform sampler2DArray shadowMap;
+layout(std430, binding = INDIRECT_BINDING_SHADOW_TEXELS) readonly buffer ShadowTexels { float shadowTexels[]; };
+#include "light_texels.glsl"
+#include "shadow_map_point.glsl"
 
 void indirectAddCounter(uint word, uint value) {
   if (value == 0u) return;
@@ -53,7 +56,7 @@ void main() {
       for (uint k = 0u; k < count; ++k) {
         vec3 dir = indirectDirection(pixel, k, count, params.frame, n);
         ++rays;
-        if (!kBounce) {
+        if (params.mode == INDIRECT_AO) {  // uniform over the dispatch
           if (indirectOccluded(origin, dir, 0.0f, params.aoRadius, true)) ++blocked;
           continue;
         }
@@ -62,6 +65,10 @@ void main() {
         if (!indirectClosest(origin, dir, 0.0f, params.rayMax, t, triangle)) continue;
         IndirectHit hit = indirectHit(INDIRECT_TRIANGLES[triangle], origin, dir, t, light);
         if (!hit.lit) continue;
+        if (params.hitLight == INDIRECT_HIT_SHADOW_MAP) {
+          light3 += hit.reflected * shadowMapVisibility(hit.position, hit.face);
+          continue;
+        }
         ++shadowRays;
         if (!indirectOccluded(hit.shadowOrigin, hit.toLight, 0.0f, hit.shadowEnd, false)) light3 += hit.reflected;
       }

@@ -1,19 +1,13 @@
-// The receiver's plane as a shadow map sees it (after `frame` and a binding gFaceNormal, the
+// The receiver's plane as a shadow map sees it (after `frame`, the map as shadow_map_point.glsl
+// reads it, and a binding gFaceNormal, the
 // G-buffer's face normal, are declared): its NDC depth is affine in texel coordinates under both
 // projections, so a plane's depth at any texel follows from its depth and gradient at one point.
 // The face normal, not the shading normal, gives the plane: a smoothed mesh's shading normal may
 // lean off it. Used by the filters of the lookup (receiver-plane depth comparisons) and by the
 // classification (layerOver).
 #include "shared/gbuffer.h"
+#include "shadow_map_point.glsl"  // faceViewProj
 
-// The view-projection of a face of the light's map. Only cube maps have several; for the others
-// the branch is uniform and the matrix is read at a constant offset, once per subgroup. Indexed by
-// the per-pixel face, lavapipe gathers its 16 floats lane by lane in every subgroup: ~6 ms of the
-// classification and 3 ms of the lookup at 1024^2 (Mesa 25.0).
-mat4 faceViewProj(uint face) {
-  if (frame.shadow.kind == SHADOW_CUBE) return frame.shadow.viewProj[face];
-  return frame.shadow.viewProj[0];
-}
 
 vec3 faceNormalAt(ivec2 pix) { return octahedralDecode(unpackSnorm2x16(imageLoad(gFaceNormal, pix).x)); }
 

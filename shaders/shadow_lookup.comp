@@ -33,13 +33,6 @@ const vec2 kPoisson[16] = vec2[](
     vec2(-0.24188840, 0.99706507), vec2(-0.81409955, 0.91437590), vec2(0.19984126, 0.78641367),
     vec2(0.14383161, -0.14100790));
 
-// 1 if the receiver at depth `depth` is in front of the occluder stored at texel `t` of `face`.
-float litAt(ivec2 t, uint face, float depth) {
-  int res = int(frame.shadow.resolution);
-  t = clamp(t, ivec2(0), ivec2(res - 1));
-  return depth <= LIGHT_TEXEL(shadowMap, shadowTexels, t, face, res) ? 1.0 : 0.0;
-}
-
 void store(uint index, float v) {
   if (push.accumulateWeight > 0.0) visibility[index] += push.accumulateWeight * v;
   else visibility[index] = v;
@@ -108,15 +101,11 @@ void main() {
   vec3 n = imageLoad(gNormal, pix).xyz;
   if (!lightReaches(frame.light, p, n, frame.light.position.xyz)) { store(index, 0.0); return; }
 
-  uint kind = frame.shadow.kind;
-  uint face = shadowFace(kind, frame.shadow.lightPosition, p);
-  float texel = shadowTexelWorld(kind, frame.shadow.texelWorld, frame.shadow.lightPosition, p);
-  vec3 offsetP = p + n * (frame.shadow.normalOffset * texel);
-  vec4 clip = faceViewProj(face) * vec4(offsetP, 1.0);
-  vec3 ndc = clip.xyz / clip.w;
-  vec2 uv = ndc.xy * 0.5 + 0.5;
-  // Outside the map (or beyond its far plane) nothing was rendered that could block.
-  if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
+  uint face;
+  float texel;
+  vec3 offsetP, ndc;
+  vec2 uv;
+  if (!shadowMapPoint(p, n, face, texel, offsetP, ndc, uv)) {
     store(index, 1.0);
     return;
   }

@@ -140,6 +140,25 @@ TEST(Indirect, CandidateLineSpaceErrorIsBoundedAndShrinksWithDepth) {
   expectValidationSilent();
 }
 
+// --hit-light shadow-map: the bounces' hits take sm's answer instead of a shadow ray. Close to the
+// reference (which traces the ray), not equal: the map's texels and bias show at the hits' shadow
+// edges. No shadow rays are traced.
+TEST(Indirect, HitsSeeTheLightThroughTheShadowMapWhenAsked) {
+  RenderSettings settings = indirectSettings(128, 16);
+  SceneRun rays("builtin:courtyard", settings);
+  const Frame ref = rays.render("indirect-embree");
+  settings.indirect.hitShadowMap = true;
+  SceneRun map("builtin:courtyard", settings);
+  const Frame f = map.render("indirect-bvh");
+  const ErrorMetrics e = compareVisibility(f.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
+  std::printf("indirect, hits through the shadow map vs shadow rays: rmse %.5f, wrong %.3f%%\n", e.rmse,
+              100.0 * e.wrongPixelFraction);
+  EXPECT_EQ(f.stats.counts.at("shadow_rays"), 0u);
+  EXPECT_GT(e.rmse, 0.0);
+  EXPECT_LE(e.rmse, 0.01);
+  expectValidationSilent();
+}
+
 TEST(Indirect, FramesAreDeterministicAndUnknownTracersAreRefused) {
   SceneRun run("builtin:courtyard:2", indirectSettings(64, 8));
   const Frame a = run.render("indirect-bvh");

@@ -20,7 +20,9 @@ PN_BEGIN
 #define INDIRECT_BOUNCE 1u    // output: one-bounce diffuse light (rgb)
 #define INDIRECT_GROUP_SIZE 8 // 8 x 8 pixels per workgroup
 #define INDIRECT_MAX_RAYS 1024u
-#define INDIRECT_SEED 0x1d1ec7u  // salts the pixel seed so rays do not repeat the light samples' pattern
+#define INDIRECT_SEED 0x1d1ec7u
+#define INDIRECT_HIT_SHADOW_RAY 0u  // a bounce's hit sees the light through one shadow ray (exact)
+#define INDIRECT_HIT_SHADOW_MAP 1u  // ... through the light's shadow map (sm's answer: no ray)  // salts the pixel seed so rays do not repeat the light samples' pattern
 
 // Kernel bindings (after them the tracer's own: shared/bvh.h, shared/linespace.h, ...).
 #define INDIRECT_BINDING_POSITION 20
@@ -29,6 +31,8 @@ PN_BEGIN
 #define INDIRECT_BINDING_TRIANGLES 23  // SceneTriangle by scene-order index
 #define INDIRECT_BINDING_OUTPUT 24     // vec4 per pixel: rgb indirect light, a occlusion (1 - ao)
 #define INDIRECT_BINDING_COUNTERS 25   // INDIRECT_COUNTER_WORDS uint
+#define INDIRECT_BINDING_SHADOW_MAP 26     // the light's map (sampler2DArray) ...
+#define INDIRECT_BINDING_SHADOW_TEXELS 27  // ... and its texel copy (light_texels.glsl)
 
 // 64-bit counters as (low, high) 32-bit words.
 #define INDIRECT_COUNTER_RAYS 0u         // indirect rays
@@ -44,7 +48,8 @@ struct IndirectParams {
   uint frame;      // of a sequence: rotates the pattern (lightSampleOffset); 0 = unrotated
   float aoRadius;  // world units
   float rayMax;    // world units: indirect rays of `indirect` end here (past the scene)
-  uint pad0, pad1, pad2;
+  uint hitLight;   // INDIRECT_HIT_SHADOW_RAY or INDIRECT_HIT_SHADOW_MAP
+  uint pad1, pad2;
 };
 
 // Unit vectors t, b completing unit n to a right-handed frame (Duff et al. 2017).
@@ -104,7 +109,9 @@ struct IndirectHit {
   vec3 shadowOrigin;
   float shadowEnd;   // tMax of the shadow ray
   vec3 toLight;      // unit
-  float pad;
+  float pad0;
+  vec3 face;         // the triangle's unit normal, turned towards the ray's origin
+  float pad1;
   vec3 reflected;    // rgb the hit sends back when the shadow ray is unblocked
 };
 
@@ -122,7 +129,8 @@ PN_FN IndirectHit indirectHit(SceneTriangle tri, vec3 origin, vec3 dir, float t,
   h.shadowOrigin = shadowRayOrigin(light, h.position, face);
   h.toLight = directionToLight(light, h.position, q);
   h.shadowEnd = shadowRayEnd(distance(h.shadowOrigin, q), light.type == LIGHT_DIRECTIONAL, 0.0f);
-  h.pad = 0.0f;
+  h.pad0 = h.pad1 = 0.0f;
+  h.face = face;
   vec3 albedo = vec3(unpackUnorm4x8(tri.albedo));
   h.reflected = albedo * (max(dot(n, h.toLight), 0.0f) * vec3(light.color));
   return h;
