@@ -182,6 +182,11 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--linespace-offset", c.linespaceOffset,
                  "Line space: ignore occluders within this many leaf cells of the receiver's surface (0 = the paper's start-node rule alone)")
       ->capture_default_str()->check(CLI::Range(0.0f, 16.0f));
+  app.add_option("--ls-shadows,--linespace-shadows", c.linespaceShadows,
+                 "Line space: shadow rays answered by the shaft bits alone (binary: fast, conservative, thin casters "
+                 "shadow as whole cells, no contact shadows) or by the leaf cells' triangles the set bits lead to "
+                 "(exact: the BVH's answer; more memory)")
+      ->capture_default_str();
   app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
   app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
   app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
@@ -344,6 +349,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
     throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");
   }
   s.settings.lineSpace = {c.linespaceN, c.linespaceDepth, std::uint64_t(c.linespaceBudgetMb * 1e6), c.linespaceOffset};
+  s.settings.lineSpace.shadows = parseShadows(c.linespaceShadows);  // InputError for an unknown mode
   s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
   s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;

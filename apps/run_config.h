@@ -51,6 +51,7 @@ struct RunConfig {
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
   float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored
+  std::string linespaceShadows = "binary";          // line space: binary (shaft bits) or exact (leaf triangles)
   float pipDelta = 0.002f, pipMargin = 1.0f;
   bool noThin = false;
   bool explainMisses = false;  // compare: why srt left out each pixel sm gets wrong (hard shadows)

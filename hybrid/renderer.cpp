@@ -108,11 +108,20 @@ ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
     stats.memoryBytes["linespace"] = ls.bytes;
     char note[200];
     std::snprintf(note, sizeof(note),
-                  "line space (N=%u, d=%u): %llu subdivided nodes, %.1f MB, build %.0f ms (tree %.0f, bits %.0f), %.1f%% "
-                  "bits set",
-                  ls.n, ls.depth, (unsigned long long)ls.nodes, double(ls.bytes) / 1e6, ls.buildMs, ls.treeMs,
+                  "line space (N=%u, d=%u, %s shadows): %llu subdivided nodes, %.1f MB, build %.0f ms (tree %.0f, bits "
+                  "%.0f), %.1f%% bits set",
+                  ls.n, ls.depth, shadowsName(settings_.lineSpace.shadows), (unsigned long long)ls.nodes, double(ls.bytes) / 1e6, ls.buildMs, ls.treeMs,
                   ls.lineSpaceMs, 100.0 * ls.filledFraction);
     stats.notes.push_back(note);
+    if (ls.exactBytes() > 0) {
+      std::snprintf(note, sizeof(note),
+                    "line space exact shadows: %llu leaf cells, %llu triangle references, %.1f MB of it (leaf groups "
+                    "%.1f, leaves %.1f, lists %.1f, triangles %.1f)",
+                    (unsigned long long)ls.leaves, (unsigned long long)ls.leafTriangleRefs, double(ls.exactBytes()) / 1e6,
+                    double(ls.leafGroupBytes) / 1e6, double(ls.leafBytes) / 1e6, double(ls.leafTriangleBytes) / 1e6,
+                    double(ls.triangleBytes) / 1e6);
+      stats.notes.push_back(note);
+    }
     if (const SceneAccelerationStructures* moving = lineSpace_->movingStructures()) {
       stats.memoryBytes["acceleration_structures"] = moving->stats().bytes;
       stats.notes.push_back("line space: moving meshes traced with ray queries");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <thread>
 
 #include "raytrace/shaft_table.h"
@@ -26,12 +27,44 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_t groups) {
+const char* shadowsName(LineSpaceSettings::Shadows shadows) {
+  return shadows == LineSpaceSettings::Shadows::Exact ? "exact" : "binary";
+}
+
+LineSpaceSettings::Shadows parseShadows(const std::string& name) {
+  if (name == "binary") return LineSpaceSettings::Shadows::Binary;
+  if (name == "exact") return LineSpaceSettings::Shadows::Exact;
+  throw InputError("line space: unknown shadow mode '" + name +
+                   "' (--ls-shadows); use binary (a set shaft bit means occluded) or exact (test the leaf cells' "
+                   "triangles)");
+}
+
+LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_t groups, std::uint64_t leaves,
+                              std::uint64_t leafTriangleRefs, std::uint64_t triangles) {
   LineSpaceSizes s;
   s.treeBytes = std::max<std::uint64_t>(groups, 1) * n * n * n * sizeof(std::uint32_t);
   s.nodeBytes = nodes * sizeof(shared::LsNode);
   s.lineSpaceBytes = nodes * shared::lsWordsPerNode(n) * sizeof(std::uint32_t);
+  s.leafBytes = leaves * sizeof(shared::LsLeaf);
+  s.leafTriangleBytes = leafTriangleRefs * sizeof(std::uint32_t);
+  s.triangleBytes = triangles * sizeof(shared::BvhTriangle);
   return s;
+}
+
+std::vector<shared::BvhTriangle> lineSpaceTriangles(const Scene& scene, MeshSet set) {
+  std::vector<shared::BvhTriangle> out;
+  out.reserve(triangleCount(scene, set));
+  std::uint32_t id = 0;  // scene index of the triangle
+  for (const Mesh& mesh : scene.meshes) {
+    const bool in = inMeshSet(mesh, set);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t, ++id) {
+      if (!in) continue;
+      const glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]];
+      const glm::vec3 c = mesh.positions[mesh.indices[3 * t + 2]];
+      out.push_back({a, id, b, 0u, c, 0u});
+    }
+  }
+  return out;
 }
 
 std::uint64_t defaultLineSpaceBudget() {
@@ -46,22 +79,41 @@ std::uint64_t defaultLineSpaceBudget() {
 }
 
 LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, std::uint64_t maxPoolBytes,
-                         const std::string& sceneName, std::uint64_t dynamicBvhBytes) {
+                         const std::string& sceneName, std::uint64_t dynamicBvhBytes,
+                         std::vector<shared::BvhTriangle> triangles) {
   const auto start = std::chrono::steady_clock::now();
   const std::uint32_t n = tree.n, depth = tree.depth;
-  const std::uint64_t groups = tree.nodes.size() - tree.stats.nodesPerLevel[depth - 1];
-  const LineSpaceSizes sizes = lineSpaceSizes(n, tree.nodes.size(), groups);
+  const bool exact = settings.shadows == LineSpaceSettings::Shadows::Exact;
+  if (exact) {
+    const auto covered = [&](std::uint32_t t) { return t < triangles.size(); };
+    if (!std::all_of(tree.leafTriangles.begin(), tree.leafTriangles.end(), covered)) {
+      throw std::invalid_argument("buildLineSpace: exact mode needs the tree's triangles (lineSpaceTriangles)");
+    }
+  } else {
+    triangles.clear();
+  }
+  // Exact mode: every subdivided node has a children group (leaf records at the last level).
+  const std::uint64_t groups = exact ? tree.nodes.size() : tree.nodes.size() - tree.stats.nodesPerLevel[depth - 1];
+  const LineSpaceSizes sizes = exact ? lineSpaceSizes(n, tree.nodes.size(), groups, tree.leaves.size(),
+                                                      tree.leafTriangles.size(), triangles.size())
+                                     : lineSpaceSizes(n, tree.nodes.size(), groups);
   const std::uint64_t budget = settings.budgetBytes ? settings.budgetBytes : defaultLineSpaceBudget();
   const std::string set = "line space (N=" + std::to_string(n) + ", d=" + std::to_string(depth) + ") of scene '" +
                           sceneName + "'";
   if (sizes.total() + dynamicBvhBytes > budget) {
     throw InputError(set + " needs " + megabytes(sizes.total() + dynamicBvhBytes) + " (" +
                      std::to_string(tree.nodes.size()) + " subdivided nodes" +
+                     (exact ? ", exact shadows: " + std::to_string(tree.leaves.size()) + " leaf cells, " +
+                                  std::to_string(tree.leafTriangles.size()) + " triangle references, " +
+                                  std::to_string(triangles.size()) + " triangles"
+                            : "") +
                      (dynamicBvhBytes ? ", and " + megabytes(dynamicBvhBytes) + " for the moving meshes' BVH" : "") +
                      ") but the budget is " + megabytes(budget) +
-                     "; lower N (--linespace-n) or d (--linespace-depth), or raise --linespace-budget (MB)");
+                     "; lower N (--linespace-n) or d (--linespace-depth), or raise --linespace-budget (MB)" +
+                     (exact ? ", or use --ls-shadows binary" : ""));
   }
-  const std::uint64_t largest = std::max(sizes.treeBytes, std::max(sizes.nodeBytes, sizes.lineSpaceBytes));
+  const std::uint64_t largest = std::max({sizes.treeBytes, sizes.nodeBytes, sizes.lineSpaceBytes, sizes.leafBytes,
+                                          sizes.leafTriangleBytes, sizes.triangleBytes});
   if (maxPoolBytes && largest > maxPoolBytes) {
     throw InputError(set + " needs " + megabytes(largest) + " in one pool but the device binds at most " +
                      megabytes(maxPoolBytes) +
@@ -82,14 +134,22 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
     const NTree::Node& node = tree.nodes[i];
     shared::LsNode& out = ls.nodes[i];
     out = {node.lo, node.size, LS_SKIP, node.level, 0u, 0u};
-    if (node.level + 1 >= depth) continue;  // its children are leaves: never entered
+    // Binary mode: the children of second-to-last-level nodes are leaves, never entered.
+    if (node.level + 1 >= depth && !exact) continue;
     out.children = std::uint32_t(ls.tree.size());
     for (std::uint32_t c = 0; c < cells; ++c) {
+      // Above level d-1 children are nodes; at level d-1 (exact mode) kLeafBit | leaf record.
       const std::uint32_t entry = tree.child(std::uint32_t(i), c);
-      ls.tree.push_back(entry == NTree::kEmpty ? LS_SKIP : entry);  // above level d-1 children are nodes
+      ls.tree.push_back(entry == NTree::kEmpty ? LS_SKIP : entry & ~NTree::kLeafBit);
     }
   }
   if (ls.tree.empty()) ls.tree.assign(cells, LS_SKIP);  // d = 2 keeps its root group; never empty on the GPU
+  if (exact) {
+    ls.leaves.reserve(tree.leaves.size());
+    for (const NTree::Leaf& leaf : tree.leaves) ls.leaves.push_back({leaf.first, leaf.count});
+    ls.leafTriangles = tree.leafTriangles;
+    ls.triangles = std::move(triangles);
+  }
 
   // Bits: the OR of the shaft sets of the node's non-empty cells, 64 bits at a time.
   ls.bits.assign(tree.nodes.size() * words, 0u);
@@ -124,8 +184,16 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
   s.treeBytes = ls.tree.size() * sizeof(std::uint32_t);
   s.nodeBytes = ls.nodes.size() * sizeof(shared::LsNode);
   s.lineSpaceBytes = ls.bits.size() * sizeof(std::uint32_t);
+  s.leafTriangleRefs = tree.leafTriangles.size();
+  if (exact) {
+    s.leafGroupBytes = tree.stats.nodesPerLevel[depth - 1] * cells * sizeof(std::uint32_t);
+    s.leafBytes = ls.leaves.size() * sizeof(shared::LsLeaf);
+    s.leafTriangleBytes = ls.leafTriangles.size() * sizeof(std::uint32_t);
+    s.triangleBytes = ls.triangles.size() * sizeof(shared::BvhTriangle);
+  }
   s.dynamicBvhBytes = dynamicBvhBytes;
-  s.bytes = s.treeBytes + s.nodeBytes + s.lineSpaceBytes + dynamicBvhBytes;
+  s.bytes = s.treeBytes + s.nodeBytes + s.lineSpaceBytes + s.leafBytes + s.leafTriangleBytes + s.triangleBytes +
+            dynamicBvhBytes;
   s.treeMs = tree.stats.buildMs;
   s.tableMs = tableMs;
   s.lineSpaceMs = millisecondsSince(start);
@@ -138,7 +206,9 @@ LineSpace buildLineSpace(const Scene& scene, const LineSpaceSettings& settings, 
                          MeshSet set, std::uint64_t dynamicBvhBytes) {
   NTreeBuilder::validate(settings.n, settings.depth);
   const NTree tree = NTreeBuilder(settings.n, settings.depth).build(scene, set);
-  return buildLineSpace(tree, settings, maxPoolBytes, scene.name, dynamicBvhBytes);
+  std::vector<shared::BvhTriangle> triangles;
+  if (settings.shadows == LineSpaceSettings::Shadows::Exact) triangles = lineSpaceTriangles(scene, set);
+  return buildLineSpace(tree, settings, maxPoolBytes, scene.name, dynamicBvhBytes, std::move(triangles));
 }
 
 }  // namespace penumbra

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <span>
 #include <stdexcept>
+#include <vector>
 
 #include "linespace_trace_comp.h"
+#include "linespace_trace_exact_comp.h"
+#include "linespace_trace_exact_rq_comp.h"
 #include "linespace_trace_rq_comp.h"
 #include "shared/trace.h"
 
@@ -16,11 +20,11 @@ namespace penumbra {
 namespace {
 
 
-// linespace_trace(.comp|_rq.comp): the moving meshes' BVH nodes and triangles, or their top level
-// and triangle ids (ray queries), in the last two slots.
-std::array<gpu::Binding, 11> bindings(bool rayQueries) {
+// linespace_trace(_exact)(.comp|_rq.comp): the moving meshes' BVH nodes and triangles, or their
+// top level and triangle ids (ray queries); exact mode adds the leaf records, lists and triangles.
+std::vector<gpu::Binding> bindings(bool rayQueries, bool exact) {
   const auto storage = vk::DescriptorType::eStorageBuffer;
-  return {{{LS_BINDING_TREE, storage},
+  std::vector<gpu::Binding> list{{{LS_BINDING_TREE, storage},
            {LS_BINDING_NODES, storage},
            {LS_BINDING_BITS, storage},
            {LS_BINDING_COUNTERS, storage},
@@ -31,6 +35,27 @@ std::array<gpu::Binding, 11> bindings(bool rayQueries) {
            {LS_BINDING_BVH_TRIANGLES, storage},
            {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
            {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}}};
+  if (exact) {
+    list.push_back({LS_BINDING_LEAVES, storage});
+    list.push_back({LS_BINDING_LEAF_TRIANGLES, storage});
+    list.push_back({LS_BINDING_TRIANGLES, storage});
+  }
+  return list;
+}
+
+std::span<const std::uint32_t> kernel(bool rayQueries, bool exact) {
+  if (exact) return rayQueries ? std::span<const std::uint32_t>(linespace_trace_exact_rq_comp) : linespace_trace_exact_comp;
+  return rayQueries ? std::span<const std::uint32_t>(linespace_trace_rq_comp) : linespace_trace_comp;
+}
+
+// An exact-mode pool: its values, at least one element (bindings need a non-empty buffer).
+template <typename T>
+std::unique_ptr<gpu::Buffer> exactPool(const gpu::Context& context, const std::vector<T>& values, const char* name) {
+  auto buffer = std::make_unique<gpu::Buffer>(context, std::max<std::size_t>(values.size(), 1) * sizeof(T),
+                                              vk::BufferUsageFlagBits::eStorageBuffer, name);
+  std::memset(buffer->data(), 0, buffer->size());
+  buffer->upload(std::span<const T>(values));
+  return buffer;
 }
 constexpr vk::DeviceSize kCounterBytes = LS_COUNTER_WORDS * sizeof(std::uint32_t);
 
@@ -74,11 +99,12 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
 LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace ls,
                                  const LineSpaceSettings& settings)
     : stats_(ls.stats),
+      exact_(settings.shadows == LineSpaceSettings::Shadows::Exact),
       dynamic_(scene),
       push_{ls.n,
             ls.depth,
             shared::lsWordsPerNode(ls.n),
-            settings.startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth)),
+            exact_ ? 0.0f : settings.startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth)),
             dynamic_.empty() ? BVH_NO_TREE : kDynamicRoot,
             0u,
             0u,
@@ -96,11 +122,16 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
       moving_(movingRayQueries(context, settings, dynamic_)
                   ? std::make_unique<SceneAccelerationStructures>(context, scene, BvhBuildSettings{}, MeshSet::Dynamic)
                   : nullptr),
-      pipeline_(context, moving_ ? std::span<const std::uint32_t>(linespace_trace_rq_comp) : linespace_trace_comp,
-                bindings(moving_ != nullptr), sizeof(shared::LsPush), "linespace trace pipeline") {
+      pipeline_(context, kernel(moving_ != nullptr, exact_), bindings(moving_ != nullptr, exact_),
+                sizeof(shared::LsPush), exact_ ? "linespace exact trace pipeline" : "linespace trace pipeline") {
   tree_.upload(std::span<const std::uint32_t>(ls.tree));
   nodes_.upload(std::span<const shared::LsNode>(ls.nodes));
   bits_.upload(std::span<const std::uint32_t>(ls.bits));
+  if (exact_) {
+    leaves_ = exactPool(context, ls.leaves, "ls leaf records");
+    leafTriangles_ = exactPool(context, ls.leafTriangles, "ls leaf triangle lists");
+    triangles_ = exactPool(context, ls.triangles, "ls triangles");
+  }
   std::memset(counters_.data(), 0, kCounterBytes);
   std::memset(bvhNodes_.data(), 0, bvhNodes_.size());  // defined contents even where no ray looks
   std::memset(bvhTriangles_.data(), 0, bvhTriangles_.size());
@@ -118,6 +149,11 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
       .buffer(LS_BINDING_NODES, nodes_)
       .buffer(LS_BINDING_BITS, bits_)
       .buffer(LS_BINDING_COUNTERS, counters_);
+  if (exact_) {
+    descriptors.buffer(LS_BINDING_LEAVES, *leaves_)
+        .buffer(LS_BINDING_LEAF_TRIANGLES, *leafTriangles_)
+        .buffer(LS_BINDING_TRIANGLES, *triangles_);
+  }
   job.addTo(descriptors, 4);
   if (moving_) {
     SceneAccelerationStructures::recordBuildToTrace(cmd);
@@ -139,6 +175,7 @@ TraceReport LineSpaceTracer::finish(const TraceJob&) {
   TraceReport report;
   report.rays = value(LS_COUNTER_RAYS);
   report.nodeVisits = value(LS_COUNTER_NODE_VISITS);
+  report.triangleTests = value(LS_COUNTER_TRIANGLE_TESTS);
   report.hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

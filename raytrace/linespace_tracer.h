@@ -1,9 +1,12 @@
 // The line-space tracer (Keul et al. 2017): the binary line space of the scene's N-tree
 // (raytrace/line_space) in three storage buffers, shadow rays for a TraceJob by an indirect
-// dispatch of linespace_trace.comp. No geometry is stored or tested: a ray is occluded when the
-// shaft it runs through at the second-to-last level meets a non-empty cell, so shadows are
-// conservative (slightly too dark), except that the finest node holding the ray's start casts no
-// shadow on it (the paper's start-node skip).
+// dispatch of linespace_trace.comp. Binary mode (the paper's) stores and tests no geometry: a ray
+// is occluded when the shaft it runs through at the second-to-last level meets a non-empty cell,
+// so shadows are conservative (slightly too dark), except that the finest node holding the ray's
+// start casts no shadow on it (the paper's start-node skip). Exact mode
+// (LineSpaceSettings::shadows, linespace_trace_exact.comp) follows set bits down to the leaf cells
+// and tests their triangles as the BVH does, so it answers as the BVH; the bits only skip empty
+// shafts.
 // Two-level for moving geometry: the line space covers the static meshes only (built once); the
 // dynamic meshes get their own BVH (DynamicBvh, refit or rebuilt by update()), or with
 // LineSpaceSettings::movingTracer "rq" the driver's acceleration structures over them, which the
@@ -32,7 +35,9 @@ class LineSpaceTracer final : public ShadowTracer {
   bool tracesInPlace() const override { return true; }
   // Resets the counters and records the indirect trace, with the same barriers as BvhTracer.
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
-  TraceReport finish(const TraceJob& job) override;  // rays and node visits of the last record()
+  // Rays, node visits and triangle tests (exact mode's leaf triangles and the dynamic BVH's) of
+  // the last record().
+  TraceReport finish(const TraceJob& job) override;
 
   const LineSpaceStats& stats() const { return stats_; }
   const DynamicBvh& dynamicBvh() const { return dynamic_; }
@@ -48,12 +53,15 @@ class LineSpaceTracer final : public ShadowTracer {
                   const LineSpaceSettings& settings);
 
   LineSpaceStats stats_;
+  bool exact_;
   DynamicBvh dynamic_;
   shared::LsPush push_{};
   gpu::Buffer tree_;
   gpu::Buffer nodes_;
   gpu::Buffer bits_;
   gpu::Buffer counters_;  // LS_COUNTER_WORDS uint
+  // Exact mode only (null in binary mode): leaf records, leaf triangle lists, triangles.
+  std::unique_ptr<gpu::Buffer> leaves_, leafTriangles_, triangles_;
   // The dynamic BVH: node 0 unused (index 0 marks an empty slot), its root at node 1.
   gpu::Buffer bvhNodes_;
   gpu::Buffer bvhTriangles_;

@@ -1,19 +1,30 @@
 // Line-space traversal for shadow rays (Keul et al. 2017, Algorithm 1), included by
-// linespace_trace.comp (not compiled on its own). Declares the three pools and the counters at
+// linespace_trace.glsl (not compiled on its own). Declares the three pools and the counters at
 // LS_BINDING_*; includers enable GL_KHR_shader_subgroup_basic and _arithmetic (lsAddCounters).
+// With LS_EXACT defined (exact mode) it also declares the leaf records, leaf triangle lists and
+// triangles, and tests the triangles of the leaf cells instead of answering from the bits alone.
 //
 // A subdivided node is visited with the ray segment clipped to its cube:
-//  - if the segment starts or ends inside the cube, its shaft would cover the part of the line
-//    beyond the segment (the surface the ray leaves, or what lies behind the light), so the node's
-//    line space cannot be used. Above the second-to-last level the node is entered (its children
-//    decide); at the second-to-last level it is skipped, as the paper requires: the geometry of
-//    the finest node around the shading point casts no shadow (missing contact shadows);
+//  - binary mode: if the segment starts or ends inside the cube, its shaft would cover the part
+//    of the line beyond the segment (the surface the ray leaves, or what lies behind the light),
+//    so the node's line space cannot be used. Above the second-to-last level the node is entered
+//    (its children decide); at the second-to-last level it is skipped, as the paper requires: the
+//    geometry of the finest node around the shading point casts no shadow (missing contact
+//    shadows). Exact mode looks up the shaft of the whole line through the cube instead: a clear
+//    bit means nothing in the cube meets the line, so nothing meets the segment either; a set bit
+//    enters the node, the start node included;
 //  - otherwise the shaft of its entry and exit patches is looked up: bit clear -> nothing in the
-//    node can block the ray; bit set -> occluded at the second-to-last level (the approximation:
-//    the ray need not hit what the shaft meets), else its non-empty children along the ray are
-//    visited front to back (3D DDA over the N^3 grid) with an explicit stack of DDA states.
+//    node can block the ray; bit set -> binary mode: occluded at the second-to-last level (the
+//    approximation: the ray need not hit what the shaft meets); else (and in exact mode at every
+//    level) its non-empty children along the ray are visited front to back (3D DDA over the N^3
+//    grid) with an explicit stack of DDA states. Exact mode's children of a second-to-last-level
+//    node are leaf cells: their triangles are tested (triangle_test.glsl, the BVH's test).
 // A segment entering and leaving through the same face (it grazes that face) has no shaft; it
 // is treated as a set bit, which keeps the answer conservative.
+// Front to back means the first leaf cell whose tests find a hit within the cell's own stretch
+// of the ray [tIn, tOut] holds the closest hit (a triangle met earlier would have been found in
+// the earlier cell that holds the hit point), so lsClosestHit stops there.
+#include "shared/bvh.h"
 #include "shared/linespace.h"
 
 layout(std430, binding = LS_BINDING_TREE) readonly buffer LsTree { uint lsTree[]; };
@@ -21,8 +32,16 @@ layout(std430, binding = LS_BINDING_NODES) readonly buffer LsNodes { LsNode lsNo
 layout(std430, binding = LS_BINDING_BITS) readonly buffer LsBits { uint lsBits[]; };
 layout(std430, binding = LS_BINDING_COUNTERS) buffer LsCounters { uint lsCounters[LS_COUNTER_WORDS]; };
 layout(push_constant) uniform LsPushBlock { LsPush lsPush; };
+#ifdef LS_EXACT
+#include "triangle_test.glsl"
+layout(std430, binding = LS_BINDING_LEAVES) readonly buffer LsLeaves { LsLeaf lsLeaves[]; };
+layout(std430, binding = LS_BINDING_LEAF_TRIANGLES) readonly buffer LsLeafTriangles { uint lsLeafTriangles[]; };
+layout(std430, binding = LS_BINDING_TRIANGLES) readonly buffer LsTriangles { BvhTriangle lsTriangles[]; };
+#endif
 
-uint lsNodeVisits = 0u;  // of the calling invocation
+// Statistics of the calling invocation.
+uint lsNodeVisits = 0u;
+uint lsTriangleTests = 0u;
 
 #define LS_SKIPPED 0u
 #define LS_OCCLUDED 1u
@@ -52,7 +71,9 @@ uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, floa
   tOut = min(exit, tMax);
   if (tIn > tOut) return LS_SKIPPED;  // the DDA may hand over a cell the segment only grazes
   bool last = node.level + 1u >= lsPush.depth;
+#ifndef LS_EXACT
   if (enter <= tMin || exit >= tMax) return last ? LS_SKIPPED : LS_DESCEND;  // an end lies inside
+#endif
   uint axisIn = tNear.x == enter ? 0u : (tNear.y == enter ? 1u : 2u);
   uint axisOut = tFar.x == exit ? 0u : (tFar.y == exit ? 1u : 2u);
   uint faceIn = 2u * axisIn + (lsComponent(invDir, axisIn) > 0.0f ? 0u : 1u);
@@ -65,7 +86,11 @@ uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, floa
     uint word = lsBits[index * lsPush.wordsPerNode + shaft / 32u];
     if ((word & (1u << (shaft % 32u))) == 0u) return LS_SKIPPED;
   }
+#ifdef LS_EXACT
+  return LS_DESCEND;
+#else
   return last ? LS_OCCLUDED : LS_DESCEND;
+#endif
 }
 
 // The cell of `node`'s grid that holds point p (clamped to the grid).
@@ -74,8 +99,35 @@ ivec3 lsCellOf(LsNode node, vec3 p) {
   return ivec3(clamp(floor((p - node.position) / node.size * n), vec3(0.0f), vec3(n - 1.0f)));
 }
 
-// Whether the segment origin + t dir, t in [tMin, tMax], is occluded according to the line space.
-bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
+#ifdef LS_EXACT
+// Tests the triangles of leaf record `leaf` within [tMin, tMax]; a hit shortens tMax (closest
+// hit) and is kept in t and triangle (BvhTriangle.id). Returns whether it found one.
+bool lsLeafHit(uint leaf, vec3 origin, vec3 dir, float tMin, inout float tMax, bool anyHit, inout float t,
+               inout uint triangle) {
+  LsLeaf record = lsLeaves[leaf];
+  bool found = false;
+  for (uint i = record.first; i < record.first + record.count; ++i) {
+    ++lsTriangleTests;
+    BvhTriangle tri = lsTriangles[lsLeafTriangles[i]];
+    float hit = bvhTriangleHit(tri, origin, dir, tMin, tMax);
+    if (hit < 0.0f) continue;
+    t = hit;
+    triangle = tri.id;
+    found = true;
+    if (anyHit) break;
+    tMax = hit;  // only nearer hits matter from now on
+  }
+  return found;
+}
+#endif
+
+// The traversal behind lsOccluded and lsClosestHit over the segment origin + t dir, t in
+// [tMin, tMax]; anyHit is a constant at every call site. Returns whether it found a blocker: in
+// exact mode a triangle (t its distance, the nearest one unless anyHit; triangle its
+// BvhTriangle.id), in binary mode a set shaft bit (t = -1, triangle = BVH_NO_HIT).
+bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float t, out uint triangle) {
+  t = -1.0f;
+  triangle = BVH_NO_HIT;
   vec3 invDir = lsInverseDirection(dir);
   // From invDir's sign, so that a zero component (made +tiny) steps towards its far boundary.
   ivec3 stepDir = ivec3(greaterThan(invDir, vec3(0.0f))) * 2 - ivec3(1);
@@ -110,6 +162,15 @@ bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
 
     uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
     if (child == LS_SKIP) continue;
+#ifdef LS_EXACT
+    if (node.level + 1u >= lsPush.depth) {  // a leaf cell
+      bool found = lsLeafHit(child, origin, dir, tMin, tMax, anyHit, t, triangle);
+      if (found && anyHit) return true;
+      // Every cell before this one has been tested: a hit up to this cell's exit is the nearest.
+      if (triangle != BVH_NO_HIT && tMax <= tNext) return true;
+      continue;
+    }
+#endif
     uint result = lsClassify(child, origin, dir, invDir, tMin, tMax, tIn, tOut);
     if (result == LS_OCCLUDED) return true;
     if (result == LS_DESCEND) {
@@ -119,8 +180,29 @@ bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
       frameOut[level] = tOut;
     }
   }
-  return false;
+  return triangle != BVH_NO_HIT;
 }
+
+// Whether the segment origin + t dir, t in [tMin, tMax], is occluded according to the line space
+// (exact mode: whether a triangle blocks it, blockerT the distance of the one found; binary mode:
+// a set shaft bit at the second-to-last level, blockerT = -1).
+bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax, out float blockerT) {
+  uint triangle;
+  return lsTraverse(origin, dir, tMin, tMax, true, blockerT, triangle);
+}
+
+bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
+  float blockerT;
+  return lsOccluded(origin, dir, tMin, tMax, blockerT);
+}
+
+#ifdef LS_EXACT
+// The nearest triangle the segment origin + t dir, t in [tMin, tMax], hits: its distance t and
+// its BvhTriangle.id (scene-order index); false (t < 0, BVH_NO_HIT) on a miss. Exact mode only.
+bool lsClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
+  return lsTraverse(origin, dir, tMin, tMax, false, t, triangle);
+}
+#endif
 
 // Adds to a 64-bit counter kept as (low, high) words (see bvhAddCounter).
 void lsAddCounter(uint word, uint value) {
@@ -129,13 +211,15 @@ void lsAddCounter(uint word, uint value) {
   if (old > 0xffffffffu - value) atomicAdd(lsCounters[word + 1u], 1u);
 }
 
-// This invocation's rays and node visits, one atomic per subgroup and counter; call it from every
-// invocation that has not returned.
+// This invocation's rays, node visits and triangle tests, one atomic per subgroup and counter;
+// call it from every invocation that has not returned.
 void lsAddCounters(uint rays) {
   uint subgroupRays = subgroupAdd(rays);
   uint subgroupVisits = subgroupAdd(lsNodeVisits);
+  uint subgroupTests = subgroupAdd(lsTriangleTests);
   if (subgroupElect()) {
     lsAddCounter(LS_COUNTER_RAYS, subgroupRays);
     lsAddCounter(LS_COUNTER_NODE_VISITS, subgroupVisits);
+    lsAddCounter(LS_COUNTER_TRIANGLE_TESTS, subgroupTests);
   }
 }

@@ -30,6 +30,8 @@ TEST_F(Cli, HelpForEveryCommand) {
     EXPECT_NE(r.out.find("--scene"), std::string::npos) << command;
   }
   EXPECT_EQ(run("--help").exitCode, 0);
+  const Result render = run("render --help");
+  for (const char* option : {"--ls-shadows", "--linespace-n"}) EXPECT_NE(render.out.find(option), std::string::npos) << option;
 }
 
 TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
@@ -52,6 +54,8 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method ao --ao-radius -1 --scene builtin:square", "--ao-radius"},
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
+      {"render --method ls --ls-shadows maybe --scene builtin:square", "--ls-shadows"},
+      {"render --method srt --tracer ls --ls-shadows Exact --scene builtin:square", "unknown shadow mode 'Exact'"},
       {"bench --scenes builtin:square --methods sm --shard 3/2", "--shard"},
       {"bench --merge /nonexistent/shard1,/nonexistent/shard2", "--merge"},
       {"render --method bitmask --scene builtin:courtyard", "area light"},

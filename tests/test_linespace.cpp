@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/animation.h"
 #include "core/camera.h"
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
@@ -75,6 +76,77 @@ TEST(LineSpace, RefusesParameterSetsOverTheBudgetOrTheBindingLimit) {
   EXPECT_NE(binding.find("maxStorageBufferRange"), std::string::npos) << binding;
   EXPECT_NE(binding.find("(N=8, d=3)"), std::string::npos) << binding;
   EXPECT_GT(defaultLineSpaceBudget(), 0u);
+}
+
+// Exact mode adds leaf-cell children groups, leaf records, triangle lists and triangles, counted
+// in the estimate and the budget; binary mode's pools stay as they were.
+TEST(LineSpace, ExactModeAddsTheLeafPoolsToTheEstimateAndTheBudget) {
+  const Scene scene = loadScene("builtin:courtyard:2");
+  LineSpaceSettings settings{6, 3, 0};
+  const LineSpace binary = buildLineSpace(scene, settings, 0);
+  settings.shadows = LineSpaceSettings::Shadows::Exact;
+  const LineSpace exact = buildLineSpace(scene, settings, 0);
+  EXPECT_EQ(binary.stats.exactBytes(), 0u);
+  EXPECT_TRUE(binary.leaves.empty() && binary.leafTriangles.empty() && binary.triangles.empty());
+  EXPECT_EQ(binary.bits, exact.bits) << "the same bits";
+  const std::uint64_t lastLevel = std::count_if(exact.nodes.begin(), exact.nodes.end(),
+                                                [](const auto& n) { return n.level + 1 == 3; });
+  ASSERT_GT(lastLevel, 0u);
+  EXPECT_EQ(exact.tree.size(), binary.tree.size() + lastLevel * 216) << "one more group per second-to-last node";
+  EXPECT_EQ(exact.stats.leafGroupBytes, lastLevel * 216 * sizeof(std::uint32_t));
+  EXPECT_EQ(exact.triangles.size(), scene.triangleCount());
+  EXPECT_EQ(exact.stats.bytes, binary.stats.bytes + exact.stats.exactBytes());
+  EXPECT_EQ(lineSpaceSizes(6, exact.stats.nodes, exact.stats.nodes, exact.leaves.size(), exact.leafTriangles.size(),
+                           exact.triangles.size())
+                .total(),
+            exact.stats.bytes);
+  // Every leaf cell's entry names a leaf record whose triangles overlap the cell.
+  std::uint64_t checked = 0;
+  for (const shared::LsNode& node : exact.nodes) {
+    ASSERT_NE(node.children, LS_SKIP);
+    if (node.level + 1 != 3) continue;
+    for (std::uint32_t c = 0; c < 216; ++c) {
+      const std::uint32_t leaf = exact.tree[node.children + c];
+      if (leaf == LS_SKIP) continue;
+      ASSERT_LT(leaf, exact.leaves.size());
+      const double cell = double(node.size) / 6.0;
+      const glm::dvec3 lo = glm::dvec3(node.position) + glm::dvec3(c % 6, (c / 6) % 6, c / 36) * cell;
+      const shared::LsLeaf record = exact.leaves[leaf];
+      ASSERT_GT(record.count, 0u);
+      for (std::uint32_t i = record.first; i < record.first + record.count; ++i) {
+        const shared::BvhTriangle& t = exact.triangles[exact.leafTriangles[i]];
+        EXPECT_EQ(t.id, exact.leafTriangles[i]) << "all meshes static: ids are the list's indices";
+        const glm::dvec3 slack(1e-4 * cell);
+        EXPECT_TRUE(triangleOverlapsBox(glm::dvec3(t.v0), glm::dvec3(t.v1), glm::dvec3(t.v2), lo - slack,
+                                        lo + glm::dvec3(cell) + slack));
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, exact.leafTriangles.size()) << "every list entry is reached from a leaf cell";
+  // The budget counts the exact pools: one byte short is refused, naming the way back to binary.
+  settings.budgetBytes = exact.stats.bytes - 1;
+  const std::string message = messageOf([&] { buildLineSpace(scene, settings, 0); });
+  EXPECT_NE(message.find("exact shadows"), std::string::npos) << message;
+  EXPECT_NE(message.find("--ls-shadows binary"), std::string::npos) << message;
+  settings.budgetBytes = exact.stats.bytes;
+  EXPECT_NO_THROW(buildLineSpace(scene, settings, 0));
+  EXPECT_EQ(parseShadows("exact"), LineSpaceSettings::Shadows::Exact);
+  EXPECT_EQ(parseShadows(shadowsName(LineSpaceSettings::Shadows::Binary)), LineSpaceSettings::Shadows::Binary);
+  EXPECT_NE(messageOf([] { parseShadows("approximate"); }).find("'approximate'"), std::string::npos);
+}
+
+// Triangle ids are scene-order indices even when the line space holds only the static meshes.
+TEST(LineSpace, ExactModeTrianglesKeepSceneOrderIds) {
+  const Scene scene = loadScene("builtin:courtyard-moving:1");
+  const auto all = lineSpaceTriangles(scene, MeshSet::All);
+  const auto statics = lineSpaceTriangles(scene, MeshSet::Static);
+  ASSERT_LT(statics.size(), all.size()) << "the drone moves";
+  for (const shared::BvhTriangle& t : statics) {
+    ASSERT_LT(t.id, all.size());
+    EXPECT_EQ(glm::vec3(all[t.id].v0), glm::vec3(t.v0));
+    EXPECT_EQ(glm::vec3(all[t.id].v2), glm::vec3(t.v2));
+  }
 }
 
 // ---- N-tree --------------------------------------------------------------------------------
@@ -503,6 +575,179 @@ TEST(LineSpaceTracer, StartNodeSkipLosesContactShadowsOnly) {
   EXPECT_EQ(plateMissing, 0u) << "a floating caster's shadow is never lost";
   EXPECT_EQ(missingFar, 0u) << "shadows go missing only next to the contact";
   EXPECT_LT(falselyDark * 4, falselyDarkBanded) << "the start offset removes most of the bands";
+  expectValidationSilent();
+}
+
+// ---- Exact shadows -------------------------------------------------------------------------
+
+LineSpaceSettings exactLineSpace(LineSpaceSettings s = {5, 3, 0}) {
+  s.shadows = LineSpaceSettings::Shadows::Exact;
+  return s;
+}
+
+// Pixels along a line across the fence's shadow on the ground, in order: the ground points the
+// light's centre throws the fence's mid-height onto, for z from before its first bar to past its
+// last (the fence of core/builtin_scenes.cpp: bars side by side along z), projected with the
+// camera; only pixels whose primary hit is that ground point (not hidden by anything).
+std::vector<std::size_t> fenceShadowLine(const Scene& scene, const Camera& camera, const Light& light, int size) {
+  const auto fence = std::find_if(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return m.name == "fence"; });
+  if (fence == scene.meshes.end()) return {};
+  Bounds bars;
+  for (const glm::vec3& p : fence->positions) bars.extend(p);
+  const glm::vec3 l = light.position;
+  const float height = 0.5f * (bars.lo.y + bars.hi.y), x = 0.5f * (bars.lo.x + bars.hi.x);
+  const ViewMatrices m = cameraMatrices(camera, scene.bounds(), size, size);
+  const EmbreeTracer embree(scene);
+  const auto hits = embree.tracePrimary(m, size, size);
+  std::vector<std::size_t> line;
+  const int steps = 4 * size;
+  const float margin = 0.1f * (bars.hi.z - bars.lo.z);
+  for (int i = 0; i <= steps; ++i) {
+    const glm::vec3 p(x, height, bars.lo.z - margin + (bars.hi.z - bars.lo.z + 2.0f * margin) * float(i) / float(steps));
+    const glm::vec3 ground = l + (p - l) * (l.y / (l.y - p.y));  // on y = 0
+    const glm::vec4 clip = m.viewProj * glm::vec4(ground, 1.0f);
+    const int px = int(std::floor((clip.x / clip.w * 0.5f + 0.5f) * float(size)));
+    const int py = int(std::floor((clip.y / clip.w * 0.5f + 0.5f) * float(size)));
+    if (px < 0 || py < 0 || px >= size || py >= size) continue;
+    const std::size_t pixel = std::size_t(py) * std::size_t(size) + std::size_t(px);
+    if (!hits[pixel].hit || glm::distance(hits[pixel].position, ground) > 0.2f) continue;
+    if (line.empty() || line.back() != pixel) line.push_back(pixel);
+  }
+  return line;
+}
+
+// Changes between lit (visibility >= 0.5) and shadowed along `line`.
+int transitions(const Frame& frame, const std::vector<std::size_t>& line) {
+  int count = 0;
+  for (std::size_t i = 1; i < line.size(); ++i) {
+    count += (frame.visibility[line[i]] >= 0.5f) != (frame.visibility[line[i - 1]] >= 0.5f);
+  }
+  return count;
+}
+
+// The courtyard of SoftShadowsOnlyDarken: binary mode shadows the fence bars and wires, thinner
+// than a leaf cell, as solid blocks; exact mode tests their triangles, so it matches the reference
+// up to the 25 samples' noise (none: the same samples) and the bars' shadows stay bars.
+TEST(LineSpaceTracer, ExactShadowsMatchTheReferenceAndKeepTheFenceBars) {
+  const std::uint32_t size = 256;
+  test::SceneRun run("builtin:courtyard", lsSettings(size, 25));
+  run.light.size = 0.1f * run.scene.bounds().radius();
+  test::SceneRun exactRun("builtin:courtyard", lsSettings(size, 25, exactLineSpace()));
+  exactRun.light = run.light;
+  const Frame r = run.render("ref");
+  const Frame binary = run.render("ls");
+  const Frame exact = exactRun.render("ls");
+  const ErrorMetrics eb = compareVisibility(binary.visibility, r.visibility, r.covered, kWrongThresholdSoft);
+  const ErrorMetrics ee = compareVisibility(exact.visibility, r.visibility, r.covered, kWrongThresholdSoft);
+  const double rays = double(*exact.stats.raysTraced);
+  std::printf("courtyard, light 0.1, ls (5,3) 25 spp vs ref at %u^2: binary rmse %.4f wrong %.4f (%.2f visits/ray); "
+              "exact rmse %.4f wrong %.4f (%.2f visits/ray, %.2f triangle tests/ray)\n",
+              size, eb.rmse, eb.wrongPixelFraction, double(*binary.stats.nodeVisits) / double(*binary.stats.raysTraced),
+              ee.rmse, ee.wrongPixelFraction, double(*exact.stats.nodeVisits) / rays,
+              double(*exact.stats.triangleTests) / rays);
+  ASSERT_EQ(exact.stats.tracer, "ls");
+  EXPECT_EQ(*exact.stats.raysTraced, *r.stats.raysTraced) << "the same samples as the reference";
+  EXPECT_LE(ee.rmse, 0.03);
+  EXPECT_LT(ee.rmse, 0.25 * eb.rmse) << "exact mode removes most of binary mode's error";
+  EXPECT_GT(*exact.stats.triangleTests, 0u);
+  EXPECT_EQ(*binary.stats.triangleTests, 0u) << "binary mode tests no triangles";
+  EXPECT_GT(exact.stats.memoryBytes.at("linespace"), binary.stats.memoryBytes.at("linespace"));
+
+  const std::vector<std::size_t> line = fenceShadowLine(run.scene, run.camera, run.light, int(size));
+  const int tr = transitions(r, line), tb = transitions(binary, line), te = transitions(exact, line);
+  std::size_t agree = 0;
+  for (std::size_t p : line) agree += (exact.visibility[p] >= 0.5f) == (r.visibility[p] >= 0.5f);
+  std::printf("fence shadow line: %zu pixels; lit/shadow transitions: ref %d, binary %d, exact %d; exact agrees on "
+              "%zu pixels\n",
+              line.size(), tr, tb, te, agree);
+  ASSERT_GT(line.size(), 40u) << "the line crosses the fence's shadow in view";
+  EXPECT_GE(tr, 20) << "the reference shows the bars (20 bars: two transitions each)";
+  EXPECT_LT(tb, tr / 4) << "binary mode: a solid block";
+  EXPECT_NEAR(te, tr, 2) << "exact mode keeps the bars";
+  EXPECT_GE(double(agree), 0.98 * double(line.size()));
+  expectValidationSilent();
+}
+
+// The contact scene of StartNodeSkipLosesContactShadowsOnly: exact mode does not skip the start
+// node, so the box's contact shadow is back and the answer is the BVH's (frt, the same rays).
+TEST(LineSpaceTracer, ExactShadowsAgreeWithTheBvhAndKeepContactShadows) {
+  const Scene scene = contactScene();
+  const std::uint32_t size = 192;
+  RenderSettings settings = lsSettings(size, 1, exactLineSpace({4, 3, 0}));
+  settings.tracer = "bvh";
+  Renderer renderer(validatedContext(), scene, settings);
+  const Frame frt = renderer.render("frt", *scene.camera, scene.lights.front());
+  const Frame exact = renderer.render("ls", *scene.camera, scene.lights.front());
+  Renderer binaryRenderer(validatedContext(), scene, lsSettings(size, 1, {4, 3, 0}));
+  const Frame binary = binaryRenderer.render("ls", *scene.camera, scene.lights.front());
+  std::size_t dark = 0, binaryLost = 0, exactLost = 0;
+  for (std::size_t i = 0; i < frt.visibility.size(); ++i) {
+    if (!frt.covered[i] || frt.visibility[i] >= 0.5f) continue;
+    ++dark;
+    binaryLost += binary.visibility[i] >= 0.5f;
+    exactLost += exact.visibility[i] >= 0.5f;
+  }
+  const double wrongExact = test::differingPixels(exact, frt), wrongBinary = test::differingPixels(binary, frt);
+  const double rays = double(*exact.stats.raysTraced);
+  std::printf("contact scene (4,3), 1 spp vs frt (bvh): %zu shadow px; binary loses %zu, wrong %.5f; exact loses %zu, "
+              "wrong %.5f; exact %.2f visits/ray, %.2f triangle tests/ray\n",
+              dark, binaryLost, wrongBinary, exactLost, wrongExact, double(*exact.stats.nodeVisits) / rays,
+              double(*exact.stats.triangleTests) / rays);
+  ASSERT_EQ(frt.stats.tracer, "bvh");
+  EXPECT_EQ(*exact.stats.raysTraced, *frt.stats.raysTraced);
+  ASSERT_GT(dark, 400u);
+  EXPECT_GT(binaryLost, 0u) << "binary mode loses the contact shadow";
+  EXPECT_LE(exactLost, dark / 1000) << "exact mode keeps it";
+  EXPECT_LE(wrongExact, 0.001);
+  expectValidationSilent();
+}
+
+// srt on --tracer ls in exact mode traces its PIP rays as exactly as on the BVH: the same image.
+TEST(LineSpaceTracer, SrtOnTheExactLineSpaceMatchesSrtOnTheBvh) {
+  Frame frames[3];
+  for (int i = 0; i < 3; ++i) {
+    RenderSettings settings = lsSettings(128, 9, i == 2 ? LineSpaceSettings{5, 3, 0} : exactLineSpace());
+    settings.tracer = i == 0 ? "bvh" : "ls";
+    test::SceneRun run("builtin:courtyard", settings);
+    run.light.size = 0.1f * run.scene.bounds().radius();
+    frames[i] = run.render("srt");
+    if (i == 1) EXPECT_EQ(run.render("srt").visibility, frames[i].visibility) << "bit-identical runs";
+  }
+  const double exactWrong = test::differingPixels(frames[1], frames[0]);
+  const double binaryWrong = test::differingPixels(frames[2], frames[0]);
+  std::printf("srt, courtyard 9 spp: tracer ls exact vs bvh differ on %.5f of pixels, binary on %.5f; exact %.2f "
+              "triangle tests/ray\n",
+              exactWrong, binaryWrong, double(*frames[1].stats.triangleTests) / double(*frames[1].stats.raysTraced));
+  ASSERT_EQ(frames[1].stats.tracer, "ls");
+  EXPECT_EQ(*frames[1].stats.raysTraced, *frames[0].stats.raysTraced) << "the same PIP rays";
+  EXPECT_LE(exactWrong, 0.001);
+  EXPECT_LT(exactWrong, binaryWrong);
+  expectValidationSilent();
+}
+
+// The two-level path: the drone (moving, on its own BVH or ray queries) beside the exact line
+// space over the static meshes; before and after it moves, the same shadows as frt on the BVH.
+TEST(LineSpaceTracer, ExactShadowsWithMovingMeshesMatchTheBvh) {
+  std::vector<LineSpaceSettings::Moving> movers{LineSpaceSettings::Moving::Bvh};
+  if (validatedContext().rayQuery()) movers.push_back(LineSpaceSettings::Moving::RayQuery);
+  for (const auto moving : movers) {
+    RenderSettings settings = lsSettings(128, 1, exactLineSpace({4, 2, 0}));
+    settings.lineSpace.movingTracer = moving;
+    settings.tracer = "bvh";
+    test::SceneRun run("builtin:courtyard-moving:1", settings);
+    for (int pose = 0; pose < 2; ++pose) {
+      if (pose == 1) {
+        poseScene(run.scene, 2.3);
+        run.renderer->sceneMoved();
+      }
+      const Frame frt = run.render("frt");
+      const Frame ls = run.render("ls");
+      const double wrong = test::differingPixels(ls, frt);
+      std::printf("courtyard-moving, exact ls (moving on %s), pose %d: differs from frt on %.5f of pixels\n",
+                  moving == LineSpaceSettings::Moving::Bvh ? "bvh" : "ray queries", pose, wrong);
+      EXPECT_LE(wrong, 0.001) << "pose " << pose;
+    }
+  }
   expectValidationSilent();
 }
 

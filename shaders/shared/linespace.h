@@ -19,7 +19,9 @@ PN_BEGIN
 #define LS_MIN_DEPTH 2u
 #define LS_MAX_DEPTH 4u
 // Tree pool entry of a child that is not subdivided (empty, or a leaf cell at the last level), and
-// LsNode.children of a node without a children group (the second-to-last level).
+// LsNode.children of a node without a children group (the second-to-last level in binary mode).
+// Exact mode (LineSpaceSettings::Shadows::Exact) gives second-to-last-level nodes a children group
+// too, whose entries are LsLeaf indices (LS_SKIP: an empty cell).
 #define LS_SKIP 0xffffffffu
 #define LS_NO_SHAFT 0xffffffffu  // a segment that enters and leaves through the same face
 
@@ -27,11 +29,17 @@ PN_BEGIN
 #define LS_BINDING_NODES 1
 #define LS_BINDING_BITS 2
 #define LS_BINDING_COUNTERS 3
+// Exact mode only (LS_EXACT kernels): leaf records, their packed triangle index lists, and the
+// static triangles in BvhTriangle format (scene-order ids), indexed by the lists.
+#define LS_BINDING_LEAVES 12
+#define LS_BINDING_LEAF_TRIANGLES 13
+#define LS_BINDING_TRIANGLES 14
 
 // Counters as in shared/bvh.h: 64-bit values as (low, high) 32-bit words.
 #define LS_COUNTER_RAYS 0u
 #define LS_COUNTER_NODE_VISITS 2u
-#define LS_COUNTER_WORDS 4u
+#define LS_COUNTER_TRIANGLE_TESTS 4u
+#define LS_COUNTER_WORDS 6u
 
 // Node pool entry (subdivided nodes only; node 0 is the root), std430 32 bytes. Node i's line
 // space is lsBits[i * lsWordsPerNode(N) ...].
@@ -41,6 +49,13 @@ struct LsNode {
   uint children;  // first of its N^3 tree-pool entries, or LS_SKIP (second-to-last level)
   uint level;     // root 0; nodes at level depth - 1 are the second-to-last level
   uint pad0, pad1;
+};
+
+// Leaf record (exact mode), std430 8 bytes: a non-empty leaf cell's triangles are
+// lsLeafTriangles[first .. first + count), indices into the triangle pool.
+struct LsLeaf {
+  uint first;
+  uint count;
 };
 
 // The dynamic meshes' BVH that linespace_trace.comp traces beside the line space (two-level: the
@@ -53,7 +68,7 @@ struct LsPush {
   uint n;             // branching factor N
   uint depth;         // maximum depth d: leaves at level d, subdivided nodes at levels 0 .. d-1
   uint wordsPerNode;  // lsWordsPerNode(n)
-  float startOffset;  // world units: occluders closer to the surface along the ray are ignored (LineSpaceSettings)
+  float startOffset;  // world units: occluders closer to the surface along the ray are ignored (binary mode only)
   uint dynamicRoot;   // root node of the dynamic BVH, or 0 (BVH_NO_TREE): no moving meshes
   uint pad0, pad1, pad2;
 };
