@@ -28,7 +28,7 @@ namespace {
 // The reference a method's frame is compared with: ref for shadows, the Embree tracer's own run
 // for ao and indirect.
 std::string referenceFor(const std::string& method) {
-  const Term term = makeMethod(method)->term();
+  const Term term = methodTerm(method);
   return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";
 }
 

@@ -240,7 +240,7 @@ std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std
   const std::vector<std::string> shadowTracers{"auto", "bvh", "rq", "embree", "ls"};
   std::vector<std::string> out;
   for (const std::string& m : methods) {
-    if (makeMethod(m)->term() == Term::Shadow) {  // unknown names fail here, before any work
+    if (methodTerm(m) == Term::Shadow) {  // unknown names fail here, before any work
       if (tracers.size() != 1 || std::find(shadowTracers.begin(), shadowTracers.end(), tracers[0]) == shadowTracers.end()) {
         throw InputError("--tracer '" + c.tracer + "': method " + m +
                          " takes one tracer of auto, bvh, rq, embree or ls (lists are for ao and indirect)");

@@ -172,7 +172,7 @@ std::uint32_t referenceSppOf(const Sweep& sweep, const std::vector<SweepConfig>&
 std::vector<std::string> termReferences(const std::vector<SweepConfig>& configs) {
   std::vector<std::string> out;
   for (const SweepConfig& config : configs) {
-    const Term term = makeMethod(config.method)->term();
+    const Term term = methodTerm(config.method);
     const std::string reference = std::string(termName(term)) + "-embree";
     if (term != Term::Shadow && std::find(out.begin(), out.end(), reference) == out.end()) out.push_back(reference);
   }

@@ -43,6 +43,7 @@ class Method {
 };
 
 std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for unknown names
+Term methodTerm(const std::string& name);                      // makeMethod(name)->term()
 std::vector<std::string> methodNames();
 
 // Factories, one per method file.

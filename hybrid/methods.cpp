@@ -35,6 +35,8 @@ std::vector<std::string> methodNames() {
   return names;
 }
 
+Term methodTerm(const std::string& name) { return makeMethod(name)->term(); }
+
 std::unique_ptr<Method> makeMethod(const std::string& name) {
   // ao-<tracer>, indirect-<tracer>: the method on that tracer
   for (const auto& [prefix, term] : {std::pair{"ao-", Term::Ao}, std::pair{"indirect-", Term::Indirect}}) {

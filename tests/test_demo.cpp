@@ -385,6 +385,21 @@ TEST_F(DemoTest, BitmaskRendersAsTheCliDoes) {
   EXPECT_LE(beyond, 96u * 96u / 1000u) << "pixels that differ by more than 1 level";
 }
 
+// ao and indirect in the demo: the same frame as the CLI renders, on the tracer the option names.
+TEST_F(DemoTest, IndirectRendersAsTheCliDoes) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const std::string options = "--scene builtin:courtyard:2 --method indirect --tracer bvh-ls --indirect-rays 8 --res 96x96";
+  const auto r = demo(options + " --frames 2 --hide-ui --validate --screenshot " + path("indirect.png"), x.display());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto cli = run("render " + options + " --out " + path("cli"));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  const auto [worst, beyond] =
+      compareImages(readPng(dir_ / "indirect.png"), readPng(dir_ / "cli" / "indirect-bvh-ls.png"), 1);
+  EXPECT_LE(worst, 8);
+  EXPECT_LE(beyond, 96u * 96u / 1000u) << "pixels that differ by more than 1 level";
+}
+
 TEST_F(DemoTest, BadInputFailsWithAClearMessage) {
   auto unknown = demo("--method nope --frames 1", "");
   EXPECT_NE(unknown.exitCode, 0);

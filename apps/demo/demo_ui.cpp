@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "hybrid/indirect_pass.h"
 #include "hybrid/method.h"
 
 namespace penumbra::demo {
@@ -59,12 +60,20 @@ void controls(DemoSession& session, UiState& state) {
   }
   RenderSettings settings = session.settings();
   bool settingsChanged = false;
-  int tracer = 0;
-  for (std::size_t i = 0; i < kTracers.size(); ++i) {
-    if (settings.tracer == kTracers[i]) tracer = int(i);
+  // Shadow methods pick the shadow tracer; ao and indirect theirs (bvh, bvh-ls, ... and embree).
+  const bool indirect = methodTerm(session.method()) != Term::Shadow;
+  std::vector<const char*> tracers(kTracers.begin(), kTracers.end());
+  if (indirect) {
+    tracers.clear();
+    for (const std::string& t : indirectTracers()) tracers.push_back(t.c_str());
   }
-  if (ImGui::Combo("tracer", &tracer, kTracers.data(), int(kTracers.size())) && settings.tracer != kTracers[tracer]) {
-    settings.tracer = kTracers[tracer];
+  std::string& chosen = indirect ? settings.indirect.tracer : settings.tracer;
+  int tracer = 0;
+  for (std::size_t i = 0; i < tracers.size(); ++i) {
+    if (chosen == tracers[i]) tracer = int(i);
+  }
+  if (ImGui::Combo("tracer", &tracer, tracers.data(), int(tracers.size())) && chosen != tracers[tracer]) {
+    chosen = tracers[tracer];
     settingsChanged = true;
   }
   settingsChanged |= intCombo("spp", kSpp, settings.spp);
