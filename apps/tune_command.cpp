@@ -8,6 +8,7 @@
 
 #include "apps/report.h"
 #include "hybrid/frame_output.h"
+#include "hybrid/indirect_pass.h"
 #include "hybrid/method.h"
 
 namespace penumbra {
@@ -45,6 +46,9 @@ int methodRank(const std::string& method) {
   return int(std::size(order));
 }
 
+// ref, and ao's and indirect's Embree references (rows with a negative configuration index).
+bool isReference(const nlohmann::json& row) { return row["method"] == "ref" || row.value("config", 0L) < 0; }
+
 std::string metricKey(const std::string& metric) {
   if (metric == "wrong") return "wrong_pixel_fraction";
   return metric;  // rmse, mae, max (checked by the option)
@@ -77,10 +81,25 @@ std::vector<SweepConfig> tuneCandidates(const RunConfig& base, float lightSize) 
   return c;
 }
 
+std::vector<SweepConfig> indirectTuneCandidates(const std::string& method) {
+  std::vector<SweepConfig> c;
+  for (const std::string& tracer : indirectTracers()) {
+    if (tracer == "embree") continue;  // the reference
+    if (tracer != "bvh-ls") {
+      c.push_back(candidate(method, {{"--tracer", tracer}}));
+      continue;
+    }
+    for (const char* depth : {"6", "9"}) c.push_back(candidate(method, {{"--tracer", tracer}, {"--bvh-ls-depth", depth}}));
+    // Deeper line spaces at N = 6 exceed one storage buffer on lavapipe (128 MiB): N = 4 there.
+    c.push_back(candidate(method, {{"--tracer", tracer}, {"--bvh-ls-depth", "12"}, {"--linespace-n", "4"}}));
+  }
+  return c;
+}
+
 nlohmann::json chooseCheapest(const nlohmann::json& rows, const std::string& key, double maxError) {
   std::vector<const nlohmann::json*> feasible;
   for (const nlohmann::json& r : rows) {
-    if (r["method"] == "ref" || r["error"].is_null() || r["error"][key].is_null()) continue;
+    if (isReference(r) || r["error"].is_null() || r["error"][key].is_null()) continue;
     if (r["error"][key].get<double>() <= maxError) feasible.push_back(&r);
   }
   if (feasible.empty()) return nullptr;
@@ -129,8 +148,20 @@ int TuneCommand::run() {
     only = splitList(methods_);
     for (const std::string& m : only) makeMethod(m);  // unknown names fail here
   }
-  auto candidatesFor = [base = base_, only, text = methods_](float lightSize) {
-    std::vector<SweepConfig> all = tuneCandidates(base, lightSize), kept;
+  // ao and indirect are tuned on their own (their error is of another term): their tracers.
+  std::vector<std::string> indirect;
+  for (const std::string& m : only) {
+    if (methodTerm(m) != Term::Shadow) indirect.push_back(m);
+  }
+  if (!indirect.empty() && indirect.size() != only.size()) {
+    throw InputError("--methods '" + methods_ + "': tune ao and indirect apart from the shadow methods");
+  }
+  auto candidatesFor = [base = base_, only, indirect, text = methods_](float lightSize) {
+    std::vector<SweepConfig> all, kept;
+    if (indirect.empty()) all = tuneCandidates(base, lightSize);
+    for (const std::string& m : indirect) {
+      for (SweepConfig& c : indirectTuneCandidates(m)) all.push_back(std::move(c));
+    }
     for (SweepConfig& c : all) {
       if (only.empty() || std::find(only.begin(), only.end(), c.method) != only.end()) kept.push_back(std::move(c));
     }
@@ -154,7 +185,7 @@ int TuneCommand::run() {
   std::ostringstream verdict;
   std::size_t within = 0, candidates = 0;
   for (const nlohmann::json& r : result.rows) {
-    if (r["method"] == "ref") continue;
+    if (isReference(r)) continue;
     ++candidates;
     if (!r["error"].is_null() && r["error"][key].get<double>() <= maxError_) ++within;
   }

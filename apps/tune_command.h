@@ -14,6 +14,8 @@ namespace penumbra {
 
 // The configurations tune measures for a light of this size (0 = point or directional light).
 std::vector<SweepConfig> tuneCandidates(const RunConfig& base, float lightSize);
+// ao or indirect (--methods ao / indirect): each of its tracers, bvh-ls at depths 6, 9 and 12.
+std::vector<SweepConfig> indirectTuneCandidates(const std::string& method);
 
 // Among rows (bench.json shape; the reference is skipped) whose error[metricKey] <= maxError: the
 // fastest by median time, except that times whose min-max ranges overlap the fastest's are not a

@@ -52,6 +52,7 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"compare --methods srt,ao --tracer bvh,embree --scene builtin:square", "lists are for ao and indirect"},
       {"render --method ao --indirect-rays 0 --scene builtin:square", "--indirect-rays"},
       {"render --method ao --ao-radius -1 --scene builtin:square", "--ao-radius"},
+      {"tune --scene builtin:square --methods sm,ao --max-error 0.1", "apart from the shadow methods"},
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
       {"render --method ls --ls-shadows maybe --scene builtin:square", "--ls-shadows"},

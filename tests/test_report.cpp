@@ -265,6 +265,22 @@ nlohmann::json row(const std::string& method, double error, double ms, double mi
           {"params", params}};
 }
 
+// tune --methods ao: every tracer but the reference, the line spaces at several depths.
+TEST(TuneChoice, AoAndIndirectTuneTheirTracers) {
+  const auto candidates = penumbra::indirectTuneCandidates("ao");
+  std::set<std::string> tracers;
+  for (const auto& c : candidates) {
+    EXPECT_EQ(c.method, "ao");
+    for (const auto& [option, value] : c.params) {
+      if (option == "--tracer") tracers.insert(value);
+    }
+  }
+  EXPECT_TRUE(tracers.count("bvh"));
+  EXPECT_TRUE(tracers.count("bvh-ls"));
+  EXPECT_FALSE(tracers.count("embree"));
+  EXPECT_GE(candidates.size(), tracers.size() + 2) << "bvh-ls at more than one depth";
+}
+
 TEST(TuneChoice, CheapestWithinTheBoundAndSpreadOverlapsAreTies) {
   const nlohmann::json ref{{"method", "ref"}, {"error", nullptr}, {"time_ms", 1.0}, {"time_min_ms", 1.0}, {"time_max_ms", 1.0}};
   // A clear winner: the fastest qualifying row whose range overlaps no other.
