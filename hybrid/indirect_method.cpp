@@ -52,25 +52,29 @@ class IndirectMethod final : public Method {
       throw InputError("unknown tracer '" + tracer + "' for " + termName(term_) + "; use " + indirectTracerList());
     }
     BvhTracer* bvh = tracer == "bvh" ? &dynamic_cast<BvhTracer&>(r.tracer(stats, "bvh")) : nullptr;
+    RayQueryTracer* rq = tracer == "rq" ? &dynamic_cast<RayQueryTracer&>(r.tracer(stats, "rq")) : nullptr;
     const CandidateTracer* candidates = tracer == "bvh-ls" ? &r.candidateTracer(stats) : nullptr;
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       recordDirect(cmd);
       r.timer().begin(cmd, "indirect");
       const IndirectTargets targets{r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.indirect()};
       if (bvh) pass.record(cmd, targets, params, *bvh);
+      else if (rq) pass.record(cmd, targets, params, *rq);
       else pass.record(cmd, targets, params, *candidates);
       r.timer().end(cmd);
     });
-    report(pass, stats);
+    report(pass, stats, !rq);  // the driver's traversal counts no steps
   }
 
  private:
-  static void report(const IndirectPass& pass, FrameStats& stats) {
+  static void report(const IndirectPass& pass, FrameStats& stats, bool traversalCounted) {
     std::uint64_t shadowRays = 0;
     const TraceReport traced = pass.report(&shadowRays);
     stats.raysTraced = traced.rays;
-    stats.nodeVisits = traced.nodeVisits;
-    stats.triangleTests = traced.triangleTests;
+    if (traversalCounted) {
+      stats.nodeVisits = traced.nodeVisits;
+      stats.triangleTests = traced.triangleTests;
+    }
     stats.counts["shadow_rays"] = shadowRays;
   }
 

@@ -4,6 +4,8 @@
 
 #include "indirect_bvh_comp.h"
 #include "indirect_bvh_ls_comp.h"
+#include "indirect_rq_comp.h"
+#include "shared/ray_query.h"
 #include "raytrace/scene_triangles.h"
 
 namespace penumbra {
@@ -25,6 +27,13 @@ constexpr gpu::Binding kLsBindings[] = {
     {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},        {CS_BINDING_CANDIDATES, kBuffer},
     {CS_BINDING_NODE_MAP, kBuffer},      {CS_BINDING_SCENE_TRIANGLES, kBuffer}};
 
+// rq: the driver's top level and the scene-order triangle ids, beside this pass's triangles.
+constexpr gpu::Binding kRqBindings[] = {
+    {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
+    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer},
+    {RQ_BINDING_SCENE, vk::DescriptorType::eAccelerationStructureKHR}, {RQ_BINDING_TRIANGLE_IDS, kBuffer}};
+
 struct BvhPush {
   shared::IndirectParams params;
   shared::BvhTracePush bvh;
@@ -43,7 +52,7 @@ vk::DeviceSize triangleBytes(const Scene& scene) {
 }  // namespace
 
 const std::vector<std::string>& indirectTracers() {
-  static const std::vector<std::string> names{"bvh", "bvh-ls", "embree"};
+  static const std::vector<std::string> names{"bvh", "rq", "bvh-ls", "embree"};
   return names;
 }
 
@@ -108,6 +117,19 @@ void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTarg
   const gpu::ComputePipeline& pipeline = bvh_(targets.shadowMap.hasTexelCopy());
   pipeline.bind(cmd, descriptors(targets));
   pipeline.pushConstants(cmd, BvhPush{params, bvh.tracePush()});
+  dispatch(cmd, targets.gbuffer);
+}
+
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
+                          const shared::IndirectParams& params, const RayQueryTracer& rq) {
+  if (!rq_) rq_.emplace(context_, indirect_rq_comp, kRqBindings, sizeof(shared::IndirectParams), "indirect rays (rq)");
+  recordStart(cmd);
+  SceneAccelerationStructures::recordBuildToTrace(cmd);
+  const gpu::ComputePipeline& pipeline = (*rq_)(targets.shadowMap.hasTexelCopy());
+  gpu::Descriptors d = descriptors(targets);
+  d.accelerationStructure(RQ_BINDING_SCENE, rq.structures().top()).buffer(RQ_BINDING_TRIANGLE_IDS, rq.structures().triangleIds());
+  pipeline.bind(cmd, d);
+  pipeline.pushConstants(cmd, params);
   dispatch(cmd, targets.gbuffer);
 }
 

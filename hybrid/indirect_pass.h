@@ -15,6 +15,7 @@
 #include "raster/shadow_map_pass.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/candidate_tracer.h"
+#include "raytrace/ray_query_tracer.h"
 #include "raytrace/shadow_tracer.h"
 #include "shared/indirect.h"
 
@@ -56,6 +57,9 @@ class IndirectPass {
   // zeroing the counters.
   void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
               const BvhTracer& bvh);
+  // The same with ray queries on the driver's acceleration structures (rq).
+  void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
+              const RayQueryTracer& rq);
   // The same on the BVH with candidate line spaces (bvh-ls): ao and bounce rays approximate.
   void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
               const CandidateTracer& candidates);
@@ -73,6 +77,7 @@ class IndirectPass {
   gpu::Buffer triangles_;
   gpu::Buffer counters_;
   gpu::SpecializedComputePipeline bvh_, bvhLs_;
+  std::optional<gpu::SpecializedComputePipeline> rq_;  // made on first use: only devices with ray queries
 };
 
 }  // namespace penumbra

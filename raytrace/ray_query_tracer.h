@@ -26,6 +26,8 @@ class RayQueryTracer final : public ShadowTracer {
   TraceReport finish(const TraceJob& job) override;
 
   const AccelerationStats& stats() const { return structures_.stats(); }
+  // For kernels of their own (rq_common.glsl): the top level and the triangle ids.
+  const SceneAccelerationStructures& structures() const { return structures_; }
   // The moving meshes were posed anew: refits (or rebuilds) their structures and the top level.
   BvhRefitReport update(const Scene& scene) { return structures_.update(scene); }
 

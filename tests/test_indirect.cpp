@@ -24,21 +24,26 @@ RenderSettings indirectSettings(std::uint32_t size, std::uint32_t rays) {
 
 // Same rays, same hit shading: the GPU BVH's answers equal Embree's except where a ray grazes an
 // edge and float rounding of the sampled direction differs (cos/sin on CPU and GPU).
-TEST(Indirect, BvhMatchesTheEmbreeReference) {
+// Ray queries (rq, where the device has them) likewise: the driver's watertight traversal.
+TEST(Indirect, BvhAndRayQueriesMatchTheEmbreeReference) {
   SceneRun run("builtin:courtyard", indirectSettings(128, 16));
-  for (const char* term : {"ao", "indirect"}) {
+  std::vector<std::string> tracers{"bvh"};
+  if (test::validatedContext().rayQuery()) tracers.push_back("rq");
+  for (const std::string& tracer : tracers) {
+    for (const char* term : {"ao", "indirect"}) {
     const Frame ref = run.render(std::string(term) + "-embree");
-    const Frame bvh = run.render(std::string(term) + "-bvh");
+    const Frame bvh = run.render(std::string(term) + "-" + tracer);
     const ErrorMetrics e = compareVisibility(bvh.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
-    std::printf("%s: bvh vs embree rmse %.6f, wrong %.4f%%, %llu rays, %.1f node visits/ray\n", term, e.rmse,
-                100.0 * e.wrongPixelFraction, (unsigned long long)*bvh.stats.raysTraced,
-                double(*bvh.stats.nodeVisits) / double(*bvh.stats.raysTraced + bvh.stats.counts.at("shadow_rays")));
+    std::printf("%s: %s vs embree rmse %.6f, wrong %.4f%%, %llu rays, %.1f node visits/ray\n", term, tracer.c_str(),
+                e.rmse, 100.0 * e.wrongPixelFraction, (unsigned long long)*bvh.stats.raysTraced,
+                double(bvh.stats.nodeVisits.value_or(0)) / double(*bvh.stats.raysTraced + bvh.stats.counts.at("shadow_rays")));
     EXPECT_EQ(*bvh.stats.raysTraced, *ref.stats.raysTraced) << term;
     EXPECT_LE(e.wrongPixelFraction, 0.001) << term;
     EXPECT_LE(e.rmse, 0.005) << term;
     double sum = 0.0;
     for (std::size_t i = 0; i < ref.visibility.size(); ++i) sum += ref.covered[i] ? ref.visibility[i] : 0.0f;
     EXPECT_GT(sum, 0.0) << term << ": a term to compare";
+    }
   }
   expectValidationSilent();
 }
