@@ -51,6 +51,27 @@ void parallelBlocks(std::size_t count, Body&& body) {
   for (std::thread& t : pool) t.join();
 }
 
+RTCRay embreeRay(const glm::vec3& origin, const glm::vec3& dir, float tMax) {
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = dir.x;
+  ray.dir_y = dir.y;
+  ray.dir_z = dir.z;
+  ray.tnear = 0.0f;
+  ray.tfar = tMax;
+  ray.mask = ~0u;
+  return ray;
+}
+
+bool occluded(RTCScene scene, RTCIntersectContext& context, const glm::vec3& origin, const glm::vec3& dir, float tMax) {
+  RTCRay ray = embreeRay(origin, dir, tMax);
+  rtcOccluded1(scene, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree marks an occluded ray by setting tfar to -inf
+}
+
+
 }  // namespace
 
 struct EmbreeTracer::Impl {
@@ -216,21 +237,11 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
         const glm::vec3 q = shared::lightSamplePoint(light, sp.pixel, s, n);
         if (!shared::lightReaches(light, p, normal, q)) continue;
         const glm::vec3 d = shared::directionToLight(light, p, q);
-        RTCRay ray{};
-        ray.org_x = origin.x;
-        ray.org_y = origin.y;
-        ray.org_z = origin.z;
-        ray.dir_x = d.x;
-        ray.dir_y = d.y;
-        ray.dir_z = d.z;
-        ray.tnear = 0.0f;
-        // Stop just short of the light point so geometry at the light itself does not count.
-        ray.tfar = shared::shadowRayEnd(glm::distance(origin, q), directional, sp.rayMax);
-        ray.mask = ~0u;
-        rtcOccluded1(scene, &context, &ray);
         ++rays;
-        // Embree marks an occluded ray by setting tfar to -inf.
-        if (ray.tfar >= 0.0f) ++visible;
+        // Stop just short of the light point so geometry at the light itself does not count.
+        if (!occluded(scene, context, origin, d, shared::shadowRayEnd(glm::distance(origin, q), directional, sp.rayMax))) {
+          ++visible;
+        }
       }
       visibility[i] = float(visible) / float(n);
     }
@@ -240,29 +251,6 @@ std::uint64_t EmbreeTracer::traceShadows(std::span<const shared::ShadingPoint> p
   return totalRays.load();
 }
 
-namespace {
-
-RTCRay embreeRay(const glm::vec3& origin, const glm::vec3& dir, float tMax) {
-  RTCRay ray{};
-  ray.org_x = origin.x;
-  ray.org_y = origin.y;
-  ray.org_z = origin.z;
-  ray.dir_x = dir.x;
-  ray.dir_y = dir.y;
-  ray.dir_z = dir.z;
-  ray.tnear = 0.0f;
-  ray.tfar = tMax;
-  ray.mask = ~0u;
-  return ray;
-}
-
-bool occluded(RTCScene scene, RTCIntersectContext& context, const glm::vec3& origin, const glm::vec3& dir, float tMax) {
-  RTCRay ray = embreeRay(origin, dir, tMax);
-  rtcOccluded1(scene, &context, &ray);
-  return ray.tfar < 0.0f;  // Embree marks an occluded ray by setting tfar to -inf
-}
-
-}  // namespace
 
 std::uint64_t EmbreeTracer::traceIndirect(std::span<const shared::ShadingPoint> points, const shared::GpuLight& light,
                                           std::span<const shared::SceneTriangle> triangles,
