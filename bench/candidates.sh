@@ -69,11 +69,12 @@ print("pixel and a shadow ray from each hit (exact on the BVH structures; the N-
 print("N-tree ones). LS(D): candidate line spaces (N = 4 on the BVH, the tree's N on the N-tree) at the BVH's depth D,")
 print("or at the N-tree's level 2 (and shallower nodes with fewer than 8 triangles). Build: the structure's CPU setup")
 print("(seconds); MB: uploaded; ms: median frame (warm-up 1) and the indirect pass; speed-up: the exact structure's")
-print("indirect pass over this one's; visits and tests (triangles, or candidate planes) per ray, indirect and shadow")
+print("indirect pass over this one's; Mrays/s: indirect and shadow rays over the indirect pass; visits and tests")
+print("(triangles, or candidate planes) per ray, indirect and shadow")
 print("rays together; filled: shafts with a candidate; error of the indirect term against Embree on the same rays. Device: lavapipe")
 print("(llvmpipe, CPU), a machine shared with other jobs: times are indicative, ratios from one run.\n")
-print("| scene | triangles | structure | build s | MB | filled % | frame ms | indirect ms | speed-up | visits / ray | tests / ray | rmse | wrong % |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| scene | triangles | structure | build s | MB | filled % | frame ms | indirect ms | Mrays/s | speed-up | visits / ray | tests / ray | rmse | wrong % |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 def setup_s(m):
     return sum(v for k, v in (m.get("setup_ms") or {}).items() if k != "embree_build") / 1000.0
 def mem(m):
@@ -85,7 +86,7 @@ for scene in order:
         if r is None: continue
         name = os.path.basename(scene).replace(".gltf", "")
         if "refused" in r:
-            print(f"| {name} | | {label} | refused: {r['refused'].replace('|', '/')} | | | | | | | | | |")
+            print(f"| {name} | | {label} | refused: {r['refused'].replace('|', '/')} | | | | | | | | | | |")
             continue
         m = r["m"]
         t = m["time_ms"]
@@ -98,7 +99,7 @@ for scene in order:
         per = lambda k: f"{tr[k] / rays:.1f}" if tr.get(k) is not None and rays else ""
         fill = next((n.split("% of shafts filled")[0].split(", ")[-1] for n in m.get("notes", []) if "% of shafts filled" in n), "")
         print(f"| {name} | {r['scene']['triangles']} | {label} | {setup_s(m):.2f} | {mem(m):.1f} | {fill} | {t['total']:.0f} | "
-              f"{t.get('indirect', 0):.0f} | {speed} | {per('node_visits')} | {per('triangle_tests')} | {m['error']['rmse']:.4f} | "
+              f"{t.get('indirect', 0):.0f} | {rays / t['indirect'] / 1e3 if t.get('indirect') else 0:.2f} | {speed} | {per('node_visits')} | {per('triangle_tests')} | {m['error']['rmse']:.4f} | "
               f"{100 * m['error']['wrong_pixel_fraction']:.2f} |")
 print()
 device = next((r["scene"] for r in rows.values() if "scene" in r), {})
