@@ -45,6 +45,22 @@ for scene in $SCENES; do
   done
 done
 
+# Where the candidates fail: heatmaps of |indirect - reference| (white at 0.25) and the images, at
+# the courtyard's default view and close up on the bunny (its curved surface fills the frame).
+maps=bench/results/candidates_heatmaps
+rm -rf "$maps"
+mkdir -p "$maps"
+heat() {  # name scene options...
+  local name=$1 scene=$2 out="$work/heat_$1"
+  shift 2
+  echo "== heatmaps $name"
+  ./build/bin/penumbra compare --res 512x512 --out "$out" --no-report --scene "$scene" --methods ao,indirect \
+    --indirect-rays "$RAYS" --tracer bvh-ls,ntree-ls --linespace-n 4 "$@" | tail -n 5 >"$maps/$name.txt" || true
+  for f in "$out"/*-ls.heatmap.png "$out"/*-ls.png "$out"/*-embree.png; do [ -f "$f" ] && cp "$f" "$maps/${name}_$(basename "$f")"; done
+}
+heat courtyard builtin:courtyard
+heat bunny_close "$GEN/bunny_stage.gltf" --camera 1.201,2.106,1.715:0,0.991,0 --light disk:-2.668,6.326,1.601:0.378,0.236,-0.227
+
 bench_done
 python3 - "$work" "$RES" "$RAYS" >bench/results/candidates.md <<'PY'
 import glob, json, os, sys
@@ -52,7 +68,7 @@ work, res, rays = sys.argv[1], sys.argv[2], sys.argv[3]
 rows = {}
 order = []
 for d in sorted(glob.glob(os.path.join(work, "*"))):
-    if not os.path.isdir(d): continue
+    if not os.path.isdir(d) or os.path.basename(d).startswith("heat_"): continue
     scene, label = open(os.path.join(d, "case")).read().split("\n")[:2]
     if scene not in order: order.append(scene)
     if os.path.exists(os.path.join(d, "refused")):
@@ -102,6 +118,14 @@ for scene in order:
               f"{t.get('indirect', 0):.0f} | {rays / t['indirect'] / 1e3 if t.get('indirect') else 0:.2f} | {speed} | {per('node_visits')} | {per('triangle_tests')} | {m['error']['rmse']:.4f} | "
               f"{100 * m['error']['wrong_pixel_fraction']:.2f} |")
 print()
+print("## Where the candidates fail\n")
+print("`bench/results/candidates_heatmaps/`: |indirect - reference| and |ao - reference| (white at 0.25) of `bvh-ls` (D = 9, N = 4)")
+print("and `ntree-ls` (N = 4, d = 3, LS(2)) at 512x512, beside the Embree images, on the courtyard and close up on the bunny.")
+print("Their summaries:\n")
+for name in ("courtyard", "bunny_close"):
+    path = os.path.join("bench/results/candidates_heatmaps", name + ".txt")
+    if os.path.exists(path):
+        print(f"{name}:\n```\n{open(path).read().strip()}\n```\n")
 device = next((r["scene"] for r in rows.values() if "scene" in r), {})
 print(f"{machine}; device: {device.get('device', '?')}, driver: {device.get('driver', '?')}")
 PY
