@@ -48,7 +48,7 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method sm --scene builtin:square --view /nonexistent/view.json", "view.json"},
       {"compare --methods , --scene builtin:square", "--methods"},
       {"compare --methods srt --tracer nosuch --scene builtin:square", "--tracer"},
-      {"compare --methods ao --tracer rq --scene builtin:square", "--tracer"},
+      {"compare --methods ao --tracer ls --scene builtin:square", "--tracer"},
       {"compare --methods srt,ao --tracer bvh,embree --scene builtin:square", "lists are for ao and indirect"},
       {"render --method ao --indirect-rays 0 --scene builtin:square", "--indirect-rays"},
       {"render --method ao --ao-radius -1 --scene builtin:square", "--ao-radius"},
