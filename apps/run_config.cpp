@@ -156,7 +156,9 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                  "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
                  "structures), embree (CPU), ls (line space, GPU), or auto (rq on a GPU that has ray queries, else bvh). "
                  "Methods ao and indirect take a comma-separated list of " + indirectTracerList() +
-                 " (auto = bvh) and render once per tracer")
+                 " (auto = bvh) and render once per tracer: bvh exact, bvh-ls the BVH with candidate line spaces, ntree "
+                 "the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line spaces "
+                 "(--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
       ->capture_default_str();
   app.add_option("--indirect-rays", c.indirectRays, "Methods ao and indirect: cosine-weighted rays per pixel")
       ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
@@ -170,6 +172,15 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                  "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes "
                  "at this depth (root 0); deeper = closer to exact, more memory")
       ->capture_default_str()->check(CLI::Range(0u, 30u));
+  app.add_option("--ntree-ls-depth", c.ntreeLsDepth,
+                 "Tracer ntree-ls of ao/indirect (the paper's NTree(N,d)+LS(D)): candidate line spaces at the N-tree's "
+                 "(--linespace-n, --linespace-depth) nodes at level D (0..d-1; -1 = d-1) and at shallower nodes with "
+                 "fewer than --ntree-ls-min-triangles triangles; the bounces' shadow rays use the binary line space. "
+                 "Tracer ntree: the same N-tree's line space in exact mode (exact closest hits)")
+      ->capture_default_str()->check(CLI::Range(-1, int(LS_MAX_DEPTH) - 1));
+  app.add_option("--ntree-ls-min-triangles", c.ntreeLsMinTriangles,
+                 "Tracer ntree-ls: shallower N-tree nodes with fewer triangles than this get a line space too (0: none)")
+      ->capture_default_str();
   app.add_option("--candidate-deviation", c.candidateDeviation,
                  "Candidate line spaces: drop a plane hit whose extrapolated normal leans more than this many degrees "
                  "from the candidate's face normal (180 keeps all)")
@@ -337,6 +348,13 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   requireFinite(c.aoRadius, "--ao-radius");
   s.settings.indirect.aoRadius = c.aoRadius;
   s.settings.indirect.bvhDepth = c.bvhLsDepth;
+  if (c.ntreeLsDepth >= int(c.linespaceDepth)) {
+    throw InputError("--ntree-ls-depth " + std::to_string(c.ntreeLsDepth) + ": the N-tree's subdivided nodes are at "
+                     "levels 0.." + std::to_string(c.linespaceDepth - 1) + " (--linespace-depth " +
+                     std::to_string(c.linespaceDepth) + "); choose a smaller D or -1 (d - 1)");
+  }
+  s.settings.indirect.ntreeDepth = c.ntreeLsDepth < 0 ? NTreeCandidateSettings::kSecondToLast : std::uint32_t(c.ntreeLsDepth);
+  s.settings.indirect.ntreeMinTriangles = c.ntreeLsMinTriangles;
   s.settings.indirect.hitShadowMap = c.hitLight == "shadow-map";
   s.settings.indirect.maxDeviationDeg = c.candidateDeviation;
   // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth.

@@ -47,6 +47,8 @@ struct RunConfig {
   float aoRadius = 0.1f;            // ao: fraction of the scene radius
   std::string hitLight = "shadow-ray";  // indirect: how a bounce's hit sees the light
   std::uint32_t bvhLsDepth = 9;     // tracer bvh-ls: BVH depth of the candidate line spaces
+  int ntreeLsDepth = -1;            // tracer ntree-ls: N-tree level D of the candidate line spaces (-1: d - 1)
+  std::uint32_t ntreeLsMinTriangles = 8;  // tracer ntree-ls: the T rule
   float candidateDeviation = 30.0f;  // candidate line spaces: largest extrapolated-normal deviation, degrees
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory

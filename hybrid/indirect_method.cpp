@@ -2,7 +2,9 @@
 // (camera pass, light pass, shadow-map lookup), then K cosine-weighted rays per covered pixel
 // (shared/indirect.h) on the chosen tracer for ambient occlusion (`ao`) or one-bounce diffuse
 // light (`indirect`), into Renderer::indirect(), which the shading pass adds. On tracer embree
-// the same rays are traced on the CPU: the reference the others are compared with.
+// the same rays are traced on the CPU: the reference the others are compared with. Tracers: bvh
+// (exact), bvh-ls (BVH + candidate line spaces), ntree (the N-tree's line space in exact mode:
+// exact), ntree-ls (N-tree + candidate line spaces; its hits' shadow rays on the binary line space).
 // Names: ao, indirect (settings.indirect.tracer), or ao-<tracer>, indirect-<tracer>.
 #include <chrono>
 #include <string>
@@ -54,13 +56,17 @@ class IndirectMethod final : public Method {
     BvhTracer* bvh = tracer == "bvh" ? &dynamic_cast<BvhTracer&>(r.tracer(stats, "bvh")) : nullptr;
     RayQueryTracer* rq = tracer == "rq" ? &dynamic_cast<RayQueryTracer&>(r.tracer(stats, "rq")) : nullptr;
     const CandidateTracer* candidates = tracer == "bvh-ls" ? &r.candidateTracer(stats) : nullptr;
+    const LineSpaceTracer* ntree = tracer == "ntree" ? &r.ntreeTracer(stats) : nullptr;
+    const NTreeCandidateTracer* ntreeLs = tracer == "ntree-ls" ? &r.ntreeCandidateTracer(stats) : nullptr;
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       recordDirect(cmd);
       r.timer().begin(cmd, "indirect");
       const IndirectTargets targets{r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.indirect()};
       if (bvh) pass.record(cmd, targets, params, *bvh);
       else if (rq) pass.record(cmd, targets, params, *rq);
-      else pass.record(cmd, targets, params, *candidates);
+      else if (candidates) pass.record(cmd, targets, params, *candidates);
+      else if (ntree) pass.record(cmd, targets, params, *ntree);
+      else pass.record(cmd, targets, params, *ntreeLs);
       r.timer().end(cmd);
     });
     report(pass, stats, !rq);  // the driver's traversal counts no steps

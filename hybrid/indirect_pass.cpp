@@ -4,9 +4,11 @@
 
 #include "indirect_bvh_comp.h"
 #include "indirect_bvh_ls_comp.h"
+#include "indirect_ntree_comp.h"
+#include "indirect_ntree_ls_comp.h"
 #include "indirect_rq_comp.h"
-#include "shared/ray_query.h"
 #include "raytrace/scene_triangles.h"
+#include "shared/ray_query.h"
 
 namespace penumbra {
 namespace {
@@ -34,6 +36,24 @@ constexpr gpu::Binding kRqBindings[] = {
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer},
     {RQ_BINDING_SCENE, vk::DescriptorType::eAccelerationStructureKHR}, {RQ_BINDING_TRIANGLE_IDS, kBuffer}};
 
+// ntree: the line space's pools in exact mode and the moving meshes' BVH (LineSpaceTracer::addBindings).
+constexpr gpu::Binding kNTreeBindings[] = {
+    {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
+    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {LS_BINDING_TREE, kBuffer},
+    {LS_BINDING_NODES, kBuffer},          {LS_BINDING_BITS, kBuffer},                 {LS_BINDING_BVH_NODES, kBuffer},
+    {LS_BINDING_BVH_TRIANGLES, kBuffer},  {LS_BINDING_LEAVES, kBuffer},               {LS_BINDING_LEAF_TRIANGLES, kBuffer},
+    {LS_BINDING_TRIANGLES, kBuffer}};
+
+// ntree-ls: the binary pools, the moving meshes' BVH and the candidate buffers (NTreeCandidateTracer).
+constexpr gpu::Binding kNTreeLsBindings[] = {
+    {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
+    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {LS_BINDING_TREE, kBuffer},
+    {LS_BINDING_NODES, kBuffer},          {LS_BINDING_BITS, kBuffer},                 {LS_BINDING_BVH_NODES, kBuffer},
+    {LS_BINDING_BVH_TRIANGLES, kBuffer},  {CS_NTREE_BINDING_BOXES, kBuffer},          {CS_NTREE_BINDING_BITS, kBuffer},
+    {CS_NTREE_BINDING_OFFSETS, kBuffer},  {CS_NTREE_BINDING_CANDIDATES, kBuffer},     {CS_NTREE_BINDING_NODE_MAP, kBuffer}};
+
 struct BvhPush {
   shared::IndirectParams params;
   shared::BvhTracePush bvh;
@@ -41,6 +61,15 @@ struct BvhPush {
 struct BvhLsPush {
   shared::IndirectParams params;
   shared::BvhTracePush bvh;
+  shared::CsParams cs;
+};
+struct NTreePush {
+  shared::IndirectParams params;
+  shared::LsPush ls;
+};
+struct NTreeLsPush {
+  shared::IndirectParams params;
+  shared::LsPush ls;
   shared::CsParams cs;
 };
 static_assert(sizeof(shared::IndirectParams) == 32, "IndirectParams must match std430");
@@ -52,7 +81,7 @@ vk::DeviceSize triangleBytes(const Scene& scene) {
 }  // namespace
 
 const std::vector<std::string>& indirectTracers() {
-  static const std::vector<std::string> names{"bvh", "rq", "bvh-ls", "embree"};
+  static const std::vector<std::string> names{"bvh", "rq", "bvh-ls", "ntree", "ntree-ls", "embree"};
   return names;
 }
 
@@ -72,7 +101,9 @@ IndirectPass::IndirectPass(const gpu::Context& context, const Scene& scene)
       counters_(context, INDIRECT_COUNTER_WORDS * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer |
                 vk::BufferUsageFlagBits::eTransferDst, "indirect counters"),
       bvh_(context, indirect_bvh_comp, kBindings, sizeof(BvhPush), "indirect rays (bvh)"),
-      bvhLs_(context, indirect_bvh_ls_comp, kLsBindings, sizeof(BvhLsPush), "indirect rays (bvh-ls)") {
+      bvhLs_(context, indirect_bvh_ls_comp, kLsBindings, sizeof(BvhLsPush), "indirect rays (bvh-ls)"),
+      ntree_(context, indirect_ntree_comp, kNTreeBindings, sizeof(NTreePush), "indirect rays (ntree)"),
+      ntreeLs_(context, indirect_ntree_ls_comp, kNTreeLsBindings, sizeof(NTreeLsPush), "indirect rays (ntree-ls)") {
   update(scene);
 }
 
@@ -140,6 +171,26 @@ void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTarg
   gpu::Descriptors d = descriptors(targets, false);
   pipeline.bind(cmd, candidates.addBindings(d));
   pipeline.pushConstants(cmd, BvhLsPush{params, {candidates.bvhAddresses(), BVH_NO_TREE, 0u, 0u, 0u}, candidates.params()});
+  dispatch(cmd, targets.gbuffer);
+}
+
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
+                          const shared::IndirectParams& params, const LineSpaceTracer& ntree) {
+  recordStart(cmd);
+  const gpu::ComputePipeline& pipeline = ntree_(targets.shadowMap.hasTexelCopy());
+  gpu::Descriptors d = descriptors(targets);
+  pipeline.bind(cmd, ntree.addBindings(d));
+  pipeline.pushConstants(cmd, NTreePush{params, ntree.push()});
+  dispatch(cmd, targets.gbuffer);
+}
+
+void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
+                          const shared::IndirectParams& params, const NTreeCandidateTracer& ntreeLs) {
+  recordStart(cmd);
+  const gpu::ComputePipeline& pipeline = ntreeLs_(targets.shadowMap.hasTexelCopy());
+  gpu::Descriptors d = descriptors(targets);  // the pass's triangles are the candidates' too
+  pipeline.bind(cmd, ntreeLs.addBindings(d));
+  pipeline.pushConstants(cmd, NTreeLsPush{params, ntreeLs.push(), ntreeLs.params()});
   dispatch(cmd, targets.gbuffer);
 }
 

@@ -15,6 +15,8 @@
 #include "raster/shadow_map_pass.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/candidate_tracer.h"
+#include "raytrace/linespace_tracer.h"
+#include "raytrace/ntree_candidate_tracer.h"
 #include "raytrace/ray_query_tracer.h"
 #include "raytrace/shadow_tracer.h"
 #include "shared/indirect.h"
@@ -29,6 +31,10 @@ struct IndirectSettings {
   // bvh-ls: candidate line spaces (N from RenderSettings::lineSpace) at the BVH's inner nodes at
   // this depth, and the normal test of their plane hits.
   std::uint32_t bvhDepth = 9;
+  // ntree-ls: candidate line spaces at the N-tree's (N, d from RenderSettings::lineSpace) nodes at
+  // this level (kSecondToLast: d - 1) and at shallower nodes with fewer than this many triangles.
+  std::uint32_t ntreeDepth = NTreeCandidateSettings::kSecondToLast;
+  std::uint32_t ntreeMinTriangles = 8;
   float maxDeviationDeg = 30.0f;
   bool hitShadowMap = false;  // indirect: the bounces' hits see the light through the shadow map, not a shadow ray
 };
@@ -63,6 +69,13 @@ class IndirectPass {
   // The same on the BVH with candidate line spaces (bvh-ls): ao and bounce rays approximate.
   void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
               const CandidateTracer& candidates);
+  // The same on the N-tree's line space in exact mode (ntree): exact, the moving meshes on its BVH.
+  void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
+              const LineSpaceTracer& ntree);
+  // The same on the N-tree with candidate line spaces (ntree-ls): ao and bounce rays approximate,
+  // shadow rays of the hits on the binary line space.
+  void record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets, const shared::IndirectParams& params,
+              const NTreeCandidateTracer& ntreeLs);
   // After the submission: indirect rays (rays), node visits and triangle tests; shadowRays apart.
   TraceReport report(std::uint64_t* shadowRays = nullptr) const;
   std::uint64_t bytes() const { return triangles_.size(); }
@@ -76,7 +89,7 @@ class IndirectPass {
   const gpu::Context& context_;
   gpu::Buffer triangles_;
   gpu::Buffer counters_;
-  gpu::SpecializedComputePipeline bvh_, bvhLs_;
+  gpu::SpecializedComputePipeline bvh_, bvhLs_, ntree_, ntreeLs_;
   std::optional<gpu::SpecializedComputePipeline> rq_;  // made on first use: only devices with ray queries
 };
 

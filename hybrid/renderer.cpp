@@ -88,6 +88,54 @@ const CandidateTracer& Renderer::candidateTracer(FrameStats& stats) {
   return *candidates_;
 }
 
+const LineSpaceTracer& Renderer::ntreeTracer(FrameStats& stats) {
+  if (!ntree_) {
+    LineSpaceSettings s = settings_.lineSpace;
+    s.shadows = LineSpaceSettings::Shadows::Exact;
+    s.movingTracer = LineSpaceSettings::Moving::Bvh;  // the indirect kernel traces them on the BVH
+    ntree_ = std::make_unique<LineSpaceTracer>(context_, scene_, s);
+  }
+  const LineSpaceStats& ls = ntree_->stats();
+  stats.setupMs["ntree_build"] = ls.buildMs;
+  stats.memoryBytes["ntree"] = ls.bytes;
+  char note[240];
+  std::snprintf(note, sizeof(note),
+                "N-tree (N=%u, d=%u, exact): %llu subdivided nodes, %llu leaf cells, %llu triangle references, %.1f MB "
+                "(leaf lists and triangles %.1f), built in %.0f ms",
+                ls.n, ls.depth, (unsigned long long)ls.nodes, (unsigned long long)ls.leaves,
+                (unsigned long long)ls.leafTriangleRefs, double(ls.bytes) / 1e6, double(ls.exactBytes()) / 1e6, ls.buildMs);
+  stats.notes.push_back(note);
+  return *ntree_;
+}
+
+const NTreeCandidateTracer& Renderer::ntreeCandidateTracer(FrameStats& stats) {
+  if (!ntreeLs_) {
+    NTreeCandidateSettings s;
+    s.lineSpace = settings_.lineSpace;
+    s.depth = settings_.indirect.ntreeDepth;
+    s.minTriangles = settings_.indirect.ntreeMinTriangles;
+    s.maxNormalDeviationDeg = settings_.indirect.maxDeviationDeg;
+    ntreeLs_ = std::make_unique<NTreeCandidateTracer>(context_, scene_, s);
+  }
+  const CandidateStats& cs = ntreeLs_->candidates().stats;
+  const LineSpaceStats& ls = ntreeLs_->lineSpace().stats();
+  stats.setupMs["ntree_ls_build"] = ntreeLs_->buildMs();
+  stats.memoryBytes["ntree_ls"] = ntreeLs_->bytes();
+  char note[320];
+  std::snprintf(note, sizeof(note),
+                "N-tree with candidate line spaces (N=%u, d=%u, D=%u, T=%u): %llu line spaces, %.1f%% of shafts filled, "
+                "%.1f MB sparse (dense %.1f MB); binary line space %.1f MB; built in %.0f ms",
+                ls.n, ls.depth, ntreeLs_->depth(), settings_.indirect.ntreeMinTriangles, (unsigned long long)cs.boxes,
+                100.0 * cs.filledFraction, double(cs.sparseBytes) / 1e6, double(cs.denseBytes) / 1e6,
+                double(ls.bytes) / 1e6, ntreeLs_->buildMs());
+  stats.notes.push_back(note);
+  if (ntreeLs_->placedShallower()) {
+    stats.notes.push_back("ntree-ls: D = d - 1 would exceed the budget or the device's buffer limit; placed at D = " +
+                          std::to_string(ntreeLs_->depth()) + " (--ntree-ls-depth)");
+  }
+  return *ntreeLs_;
+}
+
 const EmbreeTracer& Renderer::embree(FrameStats& stats) {
   if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
   stats.setupMs["embree_build"] = embree_->buildMs();  // one-time, reported with every frame that uses it
@@ -156,6 +204,8 @@ void Renderer::sceneMoved() {
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
   // else the line space's (both hold the same tree over the same triangles).
   std::optional<BvhRefitReport> traced;
+  if (ntree_) traced = ntree_->update(scene_);  // static line spaces stay; the moving BVHs refit
+  if (ntreeLs_) traced = ntreeLs_->update(scene_);
   if (lineSpace_) traced = lineSpace_->update(scene_);
   if (rayQuery_) traced = rayQuery_->update(scene_);
   if (bvh_) traced = bvh_->update(scene_);

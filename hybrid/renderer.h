@@ -106,6 +106,12 @@ class Renderer {
   // Tracer bvh-ls of ao and indirect: the BVH with candidate line spaces, built on first use (and
   // again after sceneMoved), its build and memory in stats.
   const CandidateTracer& candidateTracer(FrameStats& stats);
+  // Tracer ntree: the N-tree's line space in exact mode (apart from the shadow tracer ls, whose
+  // mode may be binary), the moving meshes on its BVH; built on first use, refit by sceneMoved.
+  const LineSpaceTracer& ntreeTracer(FrameStats& stats);
+  // Tracer ntree-ls: the N-tree with candidate line spaces at level settings().indirect.ntreeDepth
+  // (and the T rule), built on first use (static meshes only: sceneMoved refits the moving BVH).
+  const NTreeCandidateTracer& ntreeCandidateTracer(FrameStats& stats);
   const gpu::Buffer& traceFlags() const { return traceFlags_; }  // srt: nonzero where the pixel was traced
   // Mean blocker distance per traced pixel, written by the GPU tracers when settings().denoise is on.
   const gpu::Buffer& blockers() const { return blockers_; }
@@ -185,6 +191,8 @@ class Renderer {
   std::unique_ptr<LineSpaceTracer> lineSpace_;
   std::unique_ptr<IndirectPass> indirectPass_;
   std::unique_ptr<CandidateTracer> candidates_;
+  std::unique_ptr<LineSpaceTracer> ntree_;
+  std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;

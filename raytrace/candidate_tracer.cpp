@@ -61,11 +61,7 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
       nodes_(uploaded(context, bvh_.nodes, vk::BufferUsageFlagBits::eShaderDeviceAddress, "candidate bvh nodes")),
       triangles_(uploaded(context, bvh_.triangles, vk::BufferUsageFlagBits::eShaderDeviceAddress,
                           "candidate bvh triangles")),
-      boxes_(uploaded(context, lineSpace_.boxes, kStorage, "candidate boxes")),
-      bits_(uploaded(context, lineSpace_.bits, kStorage, "candidate bits")),
-      offsets_(uploaded(context, lineSpace_.offsets, kStorage, "candidate offsets")),
-      candidates_(uploaded(context, lineSpace_.candidates, kStorage, "candidates")),
-      nodeMapBuffer_(uploaded(context, nodeMap_, kStorage, "candidate node map")),
+      buffers_(context, lineSpace_, nodeMap_),
       sceneTriangles_(uploaded(context, sceneTriangles(scene), kStorage, "candidate scene triangles")),
       counters_(context, kCounterBytes, kStorage, "candidate counters"),
       pipeline_(context, candidate_rays_comp, kBindings, sizeof(shared::CsRaysPush), "candidate rays pipeline"),
@@ -81,17 +77,11 @@ shared::BvhAddresses CandidateTracer::bvhAddresses() const {
 }
 
 gpu::Descriptors& CandidateTracer::addBindings(gpu::Descriptors& descriptors) const {
-  return descriptors.buffer(CS_BINDING_BOXES, boxes_)
-      .buffer(CS_BINDING_BITS, bits_)
-      .buffer(CS_BINDING_OFFSETS, offsets_)
-      .buffer(CS_BINDING_CANDIDATES, candidates_)
-      .buffer(CS_BINDING_NODE_MAP, nodeMapBuffer_)
-      .buffer(CS_BINDING_SCENE_TRIANGLES, sceneTriangles_);
+  return buffers_.addBindings(descriptors).buffer(CS_BINDING_SCENE_TRIANGLES, sceneTriangles_);
 }
 
 std::uint64_t CandidateTracer::bytes() const {
-  return nodes_.size() + triangles_.size() + boxes_.size() + bits_.size() + offsets_.size() + candidates_.size() +
-         nodeMapBuffer_.size() + sceneTriangles_.size();
+  return nodes_.size() + triangles_.size() + buffers_.bytes() + sceneTriangles_.size();
 }
 
 std::vector<shared::RayHit> CandidateTracer::traceRays(std::span<const shared::RayQuery> rays, bool useLineSpace) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gpu/pipeline.h"
+#include "raytrace/candidate_buffers.h"
 #include "raytrace/candidate_line_space.h"
 #include "raytrace/ray_batches.h"
 #include "raytrace/shadow_tracer.h"
@@ -70,7 +71,8 @@ class CandidateTracer {
   CandidateLineSpace lineSpace_;
   float maxDeviationDeg_;
   gpu::Buffer nodes_, triangles_;
-  gpu::Buffer boxes_, bits_, offsets_, candidates_, nodeMapBuffer_, sceneTriangles_;
+  CandidateBuffers buffers_;
+  gpu::Buffer sceneTriangles_;
   gpu::Buffer counters_;
   gpu::ComputePipeline pipeline_;
   RayBatches rayBatches_;

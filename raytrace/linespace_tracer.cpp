@@ -78,7 +78,9 @@ vk::DeviceSize bvhTriangleBytes(std::uint64_t triangles) {
   return std::max<std::uint64_t>(1, triangles) * sizeof(shared::BvhTriangle);
 }
 
-LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings) {
+// The line space over `tree` (or a new N-tree over the static meshes when null), checked.
+LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings,
+                       const NTree* tree = nullptr) {
   context.requireSubgroupArithmetic("LineSpaceTracer");
   const std::uint64_t moving = triangleCount(scene, MeshSet::Dynamic);
   const std::uint64_t limit = context.storageBufferRange();
@@ -88,13 +90,21 @@ LineSpace buildChecked(const gpu::Context& context, const Scene& scene, const Li
                      context.deviceName() + " binds at most " + std::to_string(limit >> 20) +
                      " MiB per storage buffer (maxStorageBufferRange); animate fewer triangles");
   }
-  return buildLineSpace(scene, settings, limit, MeshSet::Static, bvhNodeBytes(moving) + bvhTriangleBytes(moving));
+  const std::uint64_t dynamicBytes = bvhNodeBytes(moving) + bvhTriangleBytes(moving);
+  if (!tree) return buildLineSpace(scene, settings, limit, MeshSet::Static, dynamicBytes);
+  std::vector<shared::BvhTriangle> triangles;
+  if (settings.shadows == LineSpaceSettings::Shadows::Exact) triangles = lineSpaceTriangles(scene, MeshSet::Static);
+  return buildLineSpace(*tree, settings, limit, scene.name, dynamicBytes, std::move(triangles));
 }
 
 }  // namespace
 
 LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings)
     : LineSpaceTracer(context, scene, buildChecked(context, scene, settings), settings) {}
+
+LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, const NTree& tree,
+                                 const LineSpaceSettings& settings)
+    : LineSpaceTracer(context, scene, buildChecked(context, scene, settings, &tree), settings) {}
 
 LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace ls,
                                  const LineSpaceSettings& settings)
@@ -142,25 +152,34 @@ BvhRefitReport LineSpaceTracer::update(const Scene& scene) {
   return moving_ ? moving_->update(scene) : dynamic_.update(scene);
 }
 
-void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
-  recordTraceStart(cmd, counters_);
-  gpu::Descriptors descriptors;
-  descriptors.buffer(LS_BINDING_TREE, tree_)
-      .buffer(LS_BINDING_NODES, nodes_)
-      .buffer(LS_BINDING_BITS, bits_)
-      .buffer(LS_BINDING_COUNTERS, counters_);
+// The pools (with exact mode's) at LS_BINDING_*.
+void LineSpaceTracer::addPools(gpu::Descriptors& descriptors) const {
+  descriptors.buffer(LS_BINDING_TREE, tree_).buffer(LS_BINDING_NODES, nodes_).buffer(LS_BINDING_BITS, bits_);
   if (exact_) {
     descriptors.buffer(LS_BINDING_LEAVES, *leaves_)
         .buffer(LS_BINDING_LEAF_TRIANGLES, *leafTriangles_)
         .buffer(LS_BINDING_TRIANGLES, *triangles_);
   }
+}
+
+gpu::Descriptors& LineSpaceTracer::addBindings(gpu::Descriptors& descriptors) const {
+  if (moving_) throw std::logic_error("LineSpaceTracer::addBindings: the moving meshes are traced with ray queries");
+  addPools(descriptors);
+  return descriptors.buffer(LS_BINDING_BVH_NODES, bvhNodes_).buffer(LS_BINDING_BVH_TRIANGLES, bvhTriangles_);
+}
+
+void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {
+  recordTraceStart(cmd, counters_);
+  gpu::Descriptors descriptors;
+  descriptors.buffer(LS_BINDING_COUNTERS, counters_);
   job.addTo(descriptors, 4);
   if (moving_) {
     SceneAccelerationStructures::recordBuildToTrace(cmd);
+    addPools(descriptors);
     descriptors.accelerationStructure(LS_BINDING_BVH_NODES, moving_->top())
         .buffer(LS_BINDING_BVH_TRIANGLES, moving_->triangleIds());
   } else {
-    descriptors.buffer(LS_BINDING_BVH_NODES, bvhNodes_).buffer(LS_BINDING_BVH_TRIANGLES, bvhTriangles_);
+    addBindings(descriptors);
   }
   pipeline_.bind(cmd, descriptors);
   pipeline_.pushConstants(cmd, push_);

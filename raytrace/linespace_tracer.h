@@ -30,6 +30,9 @@ class LineSpaceTracer final : public ShadowTracer {
   // or over the device's maxStorageBufferRange (128 MiB on lavapipe), and std::runtime_error when
   // the device lacks subgroup arithmetic in compute shaders.
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, const LineSpaceSettings& settings = {});
+  // The same on an N-tree built already over the scene's static meshes (NTreeCandidateTracer
+  // places its candidate line spaces on it).
+  LineSpaceTracer(const gpu::Context& context, const Scene& scene, const NTree& tree, const LineSpaceSettings& settings);
 
   std::string name() const override { return "ls"; }
   bool tracesInPlace() const override { return true; }
@@ -40,6 +43,14 @@ class LineSpaceTracer final : public ShadowTracer {
   TraceReport finish(const TraceJob& job) override;
 
   const LineSpaceStats& stats() const { return stats_; }
+  bool exact() const { return exact_; }
+
+  // For kernels of their own (indirect rays): the push constants linespace_traverse.glsl reads, and
+  // the pools (exact mode: with the leaf records, lists and triangles) and the moving meshes' BVH
+  // added at LS_BINDING_* (no counters). Needs the moving meshes on the BVH (movingTracer Bvh, or
+  // Auto where that picks it): std::logic_error with ray queries.
+  const shared::LsPush& push() const { return push_; }
+  gpu::Descriptors& addBindings(gpu::Descriptors& descriptors) const;
   const DynamicBvh& dynamicBvh() const { return dynamic_; }
   // The moving meshes' acceleration structures when they are traced with ray queries, else null.
   const SceneAccelerationStructures* movingStructures() const { return moving_.get(); }
@@ -51,6 +62,7 @@ class LineSpaceTracer final : public ShadowTracer {
  private:
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace lineSpace,
                   const LineSpaceSettings& settings);
+  void addPools(gpu::Descriptors& descriptors) const;
 
   LineSpaceStats stats_;
   bool exact_;

@@ -24,14 +24,31 @@
 // Front to back means the first leaf cell whose tests find a hit within the cell's own stretch
 // of the ray [tIn, tOut] holds the closest hit (a triangle met earlier would have been found in
 // the earlier cell that holds the hit point), so lsClosestHit stops there.
+//
+// With LS_CANDIDATES defined (Keul et al. 2018, 3.2 "Adaptation to NTree"; binary pools only) the
+// nodes that have a candidate line space (lsCandidateSpace[node] != CS_NONE) act as leaves: a
+// node reached with a set bit (of the whole line's shaft, as in exact mode) is answered by csHit
+// instead of being descended; lsCandidateClosestHit stops at the first such answer, the nearest
+// (front to back, and csHit's hit lies within the node's stretch of the ray). The includer
+// includes candidate_lookup.glsl first (CS_PARAMS, the CS_BINDING_* buffers) and defines
+// LS_CANDIDATE_NODE_MAP_BINDING, where the per-node map (N-tree node -> line space or CS_NONE) is.
+// Options of the includer: LS_PUSH_DECLARED (it declared push constants with an LsPush named
+// lsPush itself), LS_NO_COUNTERS (no counter buffer, no lsAddCounters).
 #include "shared/bvh.h"
 #include "shared/linespace.h"
 
 layout(std430, binding = LS_BINDING_TREE) readonly buffer LsTree { uint lsTree[]; };
 layout(std430, binding = LS_BINDING_NODES) readonly buffer LsNodes { LsNode lsNodes[]; };
 layout(std430, binding = LS_BINDING_BITS) readonly buffer LsBits { uint lsBits[]; };
+#ifndef LS_NO_COUNTERS
 layout(std430, binding = LS_BINDING_COUNTERS) buffer LsCounters { uint lsCounters[LS_COUNTER_WORDS]; };
+#endif
+#ifndef LS_PUSH_DECLARED
 layout(push_constant) uniform LsPushBlock { LsPush lsPush; };
+#endif
+#ifdef LS_CANDIDATES
+layout(std430, binding = LS_CANDIDATE_NODE_MAP_BINDING) readonly buffer LsCandidateMap { uint lsCandidateSpace[]; };
+#endif
 #ifdef LS_EXACT
 #include "triangle_test.glsl"
 layout(std430, binding = LS_BINDING_LEAVES) readonly buffer LsLeaves { LsLeaf lsLeaves[]; };
@@ -57,8 +74,10 @@ vec3 lsInverseDirection(vec3 dir) {
 
 // What to do with subdivided node `index` for the segment origin + t dir, t in [tMin, tMax].
 // tIn/tOut: the segment's part inside the node.
-uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, float tMax, out float tIn,
-                out float tOut) {
+// wholeLine (exact mode, and the candidate traversal of every mode): the shaft of the whole line
+// through the cube, a set bit always descends; else the binary rules above.
+uint lsClassifyAs(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, float tMax, bool wholeLine,
+                  out float tIn, out float tOut) {
   ++lsNodeVisits;
   LsNode node = lsNodes[index];
   vec3 t0 = (node.position - origin) * invDir;
@@ -71,9 +90,7 @@ uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, floa
   tOut = min(exit, tMax);
   if (tIn > tOut) return LS_SKIPPED;  // the DDA may hand over a cell the segment only grazes
   bool last = node.level + 1u >= lsPush.depth;
-#ifndef LS_EXACT
-  if (enter <= tMin || exit >= tMax) return last ? LS_SKIPPED : LS_DESCEND;  // an end lies inside
-#endif
+  if (!wholeLine && (enter <= tMin || exit >= tMax)) return last ? LS_SKIPPED : LS_DESCEND;  // an end lies inside
   uint axisIn = tNear.x == enter ? 0u : (tNear.y == enter ? 1u : 2u);
   uint axisOut = tFar.x == exit ? 0u : (tFar.y == exit ? 1u : 2u);
   uint faceIn = 2u * axisIn + (lsComponent(invDir, axisIn) > 0.0f ? 0u : 1u);
@@ -86,10 +103,15 @@ uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, floa
     uint word = lsBits[index * lsPush.wordsPerNode + shaft / 32u];
     if ((word & (1u << (shaft % 32u))) == 0u) return LS_SKIPPED;
   }
+  return wholeLine || !last ? LS_DESCEND : LS_OCCLUDED;
+}
+
+uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, float tMax, out float tIn,
+                out float tOut) {
 #ifdef LS_EXACT
-  return LS_DESCEND;
+  return lsClassifyAs(index, origin, dir, invDir, tMin, tMax, true, tIn, tOut);
 #else
-  return last ? LS_OCCLUDED : LS_DESCEND;
+  return lsClassifyAs(index, origin, dir, invDir, tMin, tMax, false, tIn, tOut);
 #endif
 }
 
@@ -204,6 +226,66 @@ bool lsClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, ou
 }
 #endif
 
+#ifdef LS_CANDIDATES
+// The nearest hit of the segment origin + t dir, t in [tMin, tMax], as the candidate line spaces
+// answer it (approximate): t, the candidate's scene-order triangle and csHit's shading normal;
+// false (t < 0, BVH_NO_HIT) on a miss. A node without a line space and without children (which
+// the placement never leaves on a ray's way) is skipped.
+bool lsCandidateClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle,
+                           out vec3 normal) {
+  t = -1.0f;
+  triangle = BVH_NO_HIT;
+  normal = vec3(0.0f, 0.0f, 1.0f);
+  vec3 invDir = lsInverseDirection(dir);
+  ivec3 stepDir = ivec3(greaterThan(invDir, vec3(0.0f))) * 2 - ivec3(1);
+  int n = int(lsPush.n);
+  uint frameNode[LS_MAX_DEPTH];
+  ivec3 frameCell[LS_MAX_DEPTH];
+  float frameOut[LS_MAX_DEPTH];
+  float tIn, tOut;
+  if (lsClassifyAs(0u, origin, dir, invDir, tMin, tMax, true, tIn, tOut) != LS_DESCEND) return false;
+  if (lsCandidateSpace[0] != CS_NONE) return csHit(lsCandidateSpace[0], origin, dir, tMin, tMax, t, triangle, normal);
+  int level = 0;
+  frameNode[0] = 0u;
+  frameCell[0] = lsCellOf(lsNodes[0], origin + tIn * dir);
+  frameOut[0] = tOut;
+  while (level >= 0) {
+    ivec3 cell = frameCell[level];
+    if (cell.x < 0) {
+      --level;
+      continue;
+    }
+    LsNode node = lsNodes[frameNode[level]];
+    float cellSize = node.size / float(n);
+    vec3 boundary = node.position + vec3(cell + max(stepDir, ivec3(0))) * cellSize;
+    vec3 tCross = (boundary - origin) * invDir;
+    float tNext = min(tCross.x, min(tCross.y, tCross.z));
+    ivec3 axisMask = tCross.x == tNext ? ivec3(1, 0, 0) : (tCross.y == tNext ? ivec3(0, 1, 0) : ivec3(0, 0, 1));
+    ivec3 nextCell = cell + axisMask * stepDir;
+    bool leaves = tNext >= frameOut[level] || any(lessThan(nextCell, ivec3(0))) || any(greaterThanEqual(nextCell, ivec3(n)));
+    frameCell[level] = leaves ? ivec3(-1) : nextCell;
+
+    uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
+    if (child == LS_SKIP) continue;
+    if (lsClassifyAs(child, origin, dir, invDir, tMin, tMax, true, tIn, tOut) != LS_DESCEND) continue;
+    uint space = lsCandidateSpace[child];
+    if (space != CS_NONE) {
+      if (csHit(space, origin, dir, tMin, tMax, t, triangle, normal)) return true;
+      continue;
+    }
+    if (lsNodes[child].children == LS_SKIP) continue;
+    ++level;
+    frameNode[level] = child;
+    frameCell[level] = lsCellOf(lsNodes[child], origin + tIn * dir);
+    frameOut[level] = tOut;
+  }
+  t = -1.0f;
+  triangle = BVH_NO_HIT;
+  return false;
+}
+#endif
+
+#ifndef LS_NO_COUNTERS
 // Adds to a 64-bit counter kept as (low, high) words (see bvhAddCounter).
 void lsAddCounter(uint word, uint value) {
   if (value == 0u) return;
@@ -223,3 +305,4 @@ void lsAddCounters(uint rays) {
     lsAddCounter(LS_COUNTER_TRIANGLE_TESTS, subgroupTests);
   }
 }
+#endif  // LS_NO_COUNTERS

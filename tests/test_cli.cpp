@@ -160,6 +160,23 @@ TEST_F(Cli, CompareAoAndIndirectAgainstTheirOwnReferences) {
   }
 }
 
+// Every GPU tracer of ao and indirect in one compare (issue 19: ntree, ntree-ls): each against its
+// term's reference, with its heatmap; the exact ones (bvh, ntree) equal it.
+TEST_F(Cli, CompareAoAndIndirectOnEveryTracer) {
+  const Result r = run("compare --scene builtin:courtyard:2 --res 48x48 --methods ao,indirect --tracer "
+                       "bvh,bvh-ls,ntree,ntree-ls --indirect-rays 4 --no-report --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto metrics = nlohmann::json::parse(slurp(dir_ / "out" / "metrics.json"));
+  ASSERT_EQ(metrics["methods"].size(), 8u);
+  for (const auto& m : metrics["methods"]) {
+    const std::string name = m["method"];
+    EXPECT_TRUE(fs::exists(dir_ / "out" / (name + ".heatmap.png"))) << name;
+    if (m["tracer"] == "bvh" || m["tracer"] == "ntree") {
+      EXPECT_EQ(m["error"]["wrong_pixel_fraction"].get<double>(), 0.0) << name << ": exact";
+    }
+  }
+}
+
 // A sweep split in shards (bench --shard K/N, issue 20) and merged gives the rows of one run, in
 // its order, with the same fields and images; a merge missing a shard, or mixing sweeps, is refused.
 TEST_F(Cli, BenchShardsMergeIntoOneRun) {

@@ -49,6 +49,14 @@ PN_BEGIN
 #define CS_BINDING_SCENE_TRIANGLES 10
 #endif
 
+// The N-tree variant's bindings (indirect_ntree_ls.comp, beside the line space's LS_BINDING_*):
+// the same buffers, the node map per N-tree node; CandidateBuffers::kNTreeBindings on the C++ side.
+#define CS_NTREE_BINDING_BOXES 4
+#define CS_NTREE_BINDING_BITS 5
+#define CS_NTREE_BINDING_OFFSETS 6
+#define CS_NTREE_BINDING_CANDIDATES 7
+#define CS_NTREE_BINDING_NODE_MAP 10
+
 // Counters of candidate_rays.comp beside shared/bvh.h's (rays, node visits, triangle tests), as
 // (low, high) words in the same BVH_COUNTER_WORDS buffer: the candidate (plane) tests.
 #define CS_COUNTER_CANDIDATE_TESTS 6u
