@@ -2,7 +2,8 @@
 # The candidate line space against exact structures for indirect rays (Keul et al. 2018, Table 1's
 # shape): method `indirect` (one bounce, K cosine-weighted rays per pixel, a shadow ray from each
 # hit) on the exact BVH, the BVH with candidate line spaces at two depths, the exact N-tree (6,3)
-# and (10,3), and each N-tree with line spaces at its second-to-last level (LS(2)), on a ~70K scan
+# and (10,3), and each N-tree with line spaces at level 1 and at its second-to-last level (LS(2), the
+# paper's; refused where it exceeds one storage binding), on a ~70K scan
 # (the Stanford bunny on a stage), a ~1M one (the bunny subdivided twice) and builtin:courtyard.
 # Error: against the Embree reference with the same rays (rmse and wrong % = |diff| > 0.05 of the
 # indirect term, over covered pixels). Build: the structure's setup (BVH + line spaces, or N-tree +
@@ -41,7 +42,9 @@ for scene in $SCENES; do
   one "$scene" "BVH+LS(12)" --tracer bvh-ls --bvh-ls-depth 12 --linespace-n 4
   for n in 6 10; do
     one "$scene" "NT($n,3)" --tracer ntree --linespace-n "$n" --linespace-depth 3
-    one "$scene" "NT($n,3)+LS(2)" --tracer ntree-ls --linespace-n "$n" --linespace-depth 3
+    for d in 1 2; do
+      one "$scene" "NT($n,3)+LS($d)" --tracer ntree-ls --linespace-n "$n" --linespace-depth 3 --ntree-ls-depth "$d"
+    done
   done
 done
 
@@ -77,13 +80,14 @@ for d in sorted(glob.glob(os.path.join(work, "*"))):
     m = json.load(open(os.path.join(d, "metrics.json")))
     rows[(scene, label)] = {"scene": m["scene"], "m": m["methods"][0]}
 machine = open("bench/results/candidates.machine.txt").read().strip()
-labels = ["BVH", "BVH+LS(9)", "BVH+LS(12)", "NT(6,3)", "NT(6,3)+LS(2)", "NT(10,3)", "NT(10,3)+LS(2)"]
-base = {"BVH+LS(9)": "BVH", "BVH+LS(12)": "BVH", "NT(6,3)+LS(2)": "NT(6,3)", "NT(10,3)+LS(2)": "NT(10,3)"}
+labels = ["BVH", "BVH+LS(9)", "BVH+LS(12)", "NT(6,3)", "NT(6,3)+LS(1)", "NT(6,3)+LS(2)", "NT(10,3)", "NT(10,3)+LS(1)",
+          "NT(10,3)+LS(2)"]
+base = {l: ("BVH" if l.startswith("BVH") else l.split("+")[0]) for l in labels if "+" in l}
 print("# Candidate line space vs exact structures, indirect rays (bench/candidates.sh)\n")
 print(f"Keul et al. 2018, Table 1's shape on this machine: method `indirect` at {res}, {rays} cosine-weighted rays per")
-print("pixel and a shadow ray from each hit (exact on the BVH structures; the N-tree line space's own test on the")
-print("N-tree ones). LS(D): candidate line spaces (N = 4 on the BVH, the tree's N on the N-tree) at the BVH's depth D,")
-print("or at the N-tree's level 2 (and shallower nodes with fewer than 8 triangles). Build: the structure's CPU setup")
+print("pixel and a shadow ray from each hit (exact on the BVH and the exact N-tree; the binary line space's test on")
+print("NT+LS, as the paper does). LS(D): candidate line spaces (N = 4 on the BVH, the tree's N on the N-tree) at the")
+print("BVH's depth D, or at the N-tree's level D (and shallower nodes with fewer than 8 triangles). Build: the structure's CPU setup")
 print("(seconds); MB: uploaded; ms: median frame (warm-up 1) and the indirect pass; speed-up: the exact structure's")
 print("indirect pass over this one's; Mrays/s: indirect and shadow rays over the indirect pass; visits and tests")
 print("(triangles, or candidate planes) per ray, indirect and shadow")
