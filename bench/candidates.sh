@@ -58,7 +58,7 @@ heat() {  # name scene options...
   shift 2
   echo "== heatmaps $name"
   ./build/bin/penumbra compare --res 512x512 --out "$out" --no-report --scene "$scene" --methods ao,indirect \
-    --indirect-rays "$RAYS" --tracer bvh-ls,ntree-ls --linespace-n 4 "$@" | tail -n 5 >"$maps/$name.txt" || true
+    --indirect-rays "$RAYS" --tracer bvh-ls,ntree-ls --linespace-n 4 --ntree-ls-depth 2 "$@" | tail -n 5 >"$maps/$name.txt" || true
   for f in "$out"/*-ls.heatmap.png "$out"/*-ls.png "$out"/*-embree.png; do [ -f "$f" ] && cp "$f" "$maps/${name}_$(basename "$f")"; done
 }
 heat courtyard builtin:courtyard
