@@ -26,7 +26,7 @@ constexpr gpu::Binding kLsBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage}, {INDIRECT_BINDING_NORMAL, kImage}, {INDIRECT_BINDING_FRAME, kBuffer},
     {INDIRECT_BINDING_OUTPUT, kBuffer},  {INDIRECT_BINDING_COUNTERS, kBuffer}, {INDIRECT_BINDING_SHADOW_MAP, kSampled},
     {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {CS_BINDING_BOXES, kBuffer},
-    {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},        {CS_BINDING_CANDIDATES, kBuffer},
+    {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},
     {CS_BINDING_NODE_MAP, kBuffer},      {CS_BINDING_SCENE_TRIANGLES, kBuffer}};
 
 // rq: the driver's top level and the scene-order triangle ids, beside this pass's triangles.
@@ -52,7 +52,7 @@ constexpr gpu::Binding kNTreeLsBindings[] = {
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {LS_BINDING_TREE, kBuffer},
     {LS_BINDING_NODES, kBuffer},          {LS_BINDING_BITS, kBuffer},                 {LS_BINDING_BVH_NODES, kBuffer},
     {LS_BINDING_BVH_TRIANGLES, kBuffer},  {CS_NTREE_BINDING_BOXES, kBuffer},          {CS_NTREE_BINDING_BITS, kBuffer},
-    {CS_NTREE_BINDING_OFFSETS, kBuffer},  {CS_NTREE_BINDING_CANDIDATES, kBuffer},     {CS_NTREE_BINDING_NODE_MAP, kBuffer}};
+    {CS_NTREE_BINDING_OFFSETS, kBuffer},  {CS_NTREE_BINDING_NODE_MAP, kBuffer}};
 
 struct BvhPush {
   shared::IndirectParams params;

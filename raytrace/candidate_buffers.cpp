@@ -9,9 +9,9 @@ namespace {
 
 // At least one element: bindings need a non-empty buffer.
 template <typename T>
-gpu::Buffer uploaded(const gpu::Context& context, std::span<const T> values, const std::string& name) {
-  gpu::Buffer buffer(context, std::max<std::size_t>(values.size(), 1) * sizeof(T),
-                     vk::BufferUsageFlagBits::eStorageBuffer, name);
+gpu::Buffer uploaded(const gpu::Context& context, std::span<const T> values, const std::string& name,
+                     vk::BufferUsageFlags usage = vk::BufferUsageFlagBits::eStorageBuffer) {
+  gpu::Buffer buffer(context, std::max<std::size_t>(values.size(), 1) * sizeof(T), usage, name);
   std::memset(buffer.data(), 0, buffer.size());
   buffer.upload(values);
   return buffer;
@@ -25,14 +25,14 @@ CandidateBuffers::CandidateBuffers(const gpu::Context& context, const CandidateL
       boxes_(uploaded(context, std::span<const shared::CsBox>(ls.boxes), "candidate boxes")),
       bits_(uploaded(context, std::span<const std::uint32_t>(ls.bits), "candidate bits")),
       offsets_(uploaded(context, std::span<const std::uint32_t>(ls.offsets), "candidate offsets")),
-      candidates_(uploaded(context, std::span<const std::uint32_t>(ls.candidates), "candidates")),
+      candidates_(uploaded(context, std::span<const std::uint32_t>(ls.candidates), "candidates",
+                           vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress)),
       nodeMap_(uploaded(context, nodeMap, "candidate node map")) {}
 
 gpu::Descriptors& CandidateBuffers::addBindings(gpu::Descriptors& descriptors) const {
   return descriptors.buffer(at_.boxes, boxes_)
       .buffer(at_.bits, bits_)
       .buffer(at_.offsets, offsets_)
-      .buffer(at_.candidates, candidates_)
       .buffer(at_.nodeMap, nodeMap_);
 }
 

@@ -14,11 +14,10 @@ namespace penumbra {
 // Where a kernel reads the buffers: the CS_BINDING_* defaults, or kNTreeCandidateBindings.
 struct CandidateBindings {
   std::uint32_t boxes = CS_BINDING_BOXES, bits = CS_BINDING_BITS, offsets = CS_BINDING_OFFSETS,
-                candidates = CS_BINDING_CANDIDATES, nodeMap = CS_BINDING_NODE_MAP;
+                nodeMap = CS_BINDING_NODE_MAP;
 };
 inline constexpr CandidateBindings kNTreeCandidateBindings{CS_NTREE_BINDING_BOXES, CS_NTREE_BINDING_BITS,
-                                                           CS_NTREE_BINDING_OFFSETS, CS_NTREE_BINDING_CANDIDATES,
-                                                           CS_NTREE_BINDING_NODE_MAP};
+                                                           CS_NTREE_BINDING_OFFSETS, CS_NTREE_BINDING_NODE_MAP};
 
 class CandidateBuffers {
  public:
@@ -28,6 +27,8 @@ class CandidateBuffers {
                    std::span<const std::uint32_t> nodeMap, CandidateBindings bindings = {});
 
   gpu::Descriptors& addBindings(gpu::Descriptors& descriptors) const;
+  // The packed candidates' device address, for CsParams::candidates (read through it, not bound).
+  glm::uvec2 candidatesAddress() const { return gpu::addressHalves(candidates_); }
   std::uint64_t bytes() const;
 
  private:

@@ -200,11 +200,16 @@ CandidateLineSpace buildCandidateLineSpace(const Scene& scene, std::span<const C
                      megabytes(sizes.candidateBytes) + ") but the budget is " + megabytes(budget) +
                      "; lower N, or choose fewer boxes (a shallower line-space depth D), or raise the budget");
   }
-  const std::uint64_t largest = std::max(sizes.candidateBytes, std::max(sizes.bitBytes, sizes.boxBytes));
+  const std::uint64_t largest = std::max(sizes.offsetBytes, std::max(sizes.bitBytes, sizes.boxBytes));
   if (maxBufferBytes && largest > maxBufferBytes) {
     throw InputError(what + " may need " + megabytes(largest) + " in one buffer but the device binds at most " +
                      megabytes(maxBufferBytes) +
                      " per storage buffer (maxStorageBufferRange); lower N or choose fewer boxes (a shallower depth D)");
+  }
+  if (settings.maxCandidateBytes && sizes.candidateBytes > settings.maxCandidateBytes) {
+    throw InputError(what + " may need " + megabytes(sizes.candidateBytes) + " of candidates in one buffer but the device "
+                     "holds at most " + megabytes(settings.maxCandidateBytes) +
+                     " in one (maxBufferSize, maxMemoryAllocationSize); lower N or choose fewer boxes (a shallower depth D)");
   }
   if (sizes.candidateBytes / sizeof(std::uint32_t) >= CS_NONE) throw InputError(what + ": too many shafts for 32-bit offsets; lower N or D");
 

@@ -31,6 +31,9 @@ struct CandidateSettings {
   std::uint32_t n = 6;            // patches per face edge N, LS_MIN_N..LS_MAX_N
   std::uint64_t budgetBytes = 0;  // bits + offsets + worst-case candidates; 0 = defaultLineSpaceBudget()
   bool keepDense = false;         // also keep the dense table (30 N^4 per box), for tests
+  // The packed candidates are read through a device address: at most this many bytes in their one
+  // buffer (the device's maxBufferSize / maxMemoryAllocationSize); 0 = no limit.
+  std::uint64_t maxCandidateBytes = 0;
 };
 
 struct CandidateStats {
@@ -77,8 +80,9 @@ void packCandidates(std::uint32_t n, std::span<const std::uint32_t> dense, Candi
 
 // Builds the candidate line space of `boxes` over the meshes in `set` (triangle indices stay
 // scene order over all meshes). Throws InputError before casting a ray when N is out of range,
-// when the worst-case size exceeds the budget, or one buffer would exceed maxBufferBytes (the
-// device's maxStorageBufferRange; 0 = no limit), naming N, the box count, the MB and what to change.
+// when the worst-case size exceeds the budget, one bound buffer (bits, offsets, boxes) would exceed
+// maxBufferBytes (the device's maxStorageBufferRange; 0 = no limit) or the candidates
+// settings.maxCandidateBytes, naming N, the box count, the MB and what to change.
 CandidateLineSpace buildCandidateLineSpace(const Scene& scene, std::span<const CandidateBox> boxes,
                                            const CandidateSettings& settings, std::uint64_t maxBufferBytes,
                                            MeshSet set = MeshSet::All);

@@ -16,7 +16,6 @@ constexpr gpu::Binding kBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType:
                                       {CS_BINDING_BOXES, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_OFFSETS, vk::DescriptorType::eStorageBuffer},
-                                      {CS_BINDING_CANDIDATES, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_NODE_MAP, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_SCENE_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
 
@@ -55,7 +54,7 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
                                     : std::vector<std::uint32_t>(bvh_.nodes.size(), CS_NONE)),
       lineSpace_(buildCandidateLineSpace(scene,
                                          placed.boxes.empty() ? bvhNodesAtDepth(bvh_, settings.depth).boxes : placed.boxes,
-                                         CandidateSettings{settings.n, settings.budgetBytes, false},
+                                         CandidateSettings{settings.n, settings.budgetBytes, false, context.maxBufferBytes()},
                                          context.storageBufferRange())),
       maxDeviationDeg_(settings.maxNormalDeviationDeg),
       nodes_(uploaded(context, bvh_.nodes, vk::BufferUsageFlagBits::eShaderDeviceAddress, "candidate bvh nodes")),
@@ -69,7 +68,7 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
 
 shared::CsParams CandidateTracer::params() const {
   const float cosMax = maxDeviationDeg_ >= 180.0f ? -2.0f : std::cos(glm::radians(maxDeviationDeg_));
-  return shared::CsParams{lineSpace_.n, cosMax, 0u, 0u};
+  return shared::CsParams{lineSpace_.n, cosMax, buffers_.candidatesAddress()};
 }
 
 shared::BvhAddresses CandidateTracer::bvhAddresses() const {

@@ -33,7 +33,8 @@ NTreeCandidateTracer::NTreeCandidateTracer(const gpu::Context& context, const Sc
   std::vector<CandidateBox> boxes = boxesAtDepth(tree, depth_, settings.minTriangles);
   auto fits = [&](std::uint64_t count) {
     const CandidateSizes sizes = candidateWorstCaseSizes(ls.n, count);
-    return pools + sizes.total() <= budget && sizes.candidateBytes <= context.storageBufferRange();
+    return pools + sizes.total() <= budget && sizes.candidateBytes <= context.maxBufferBytes() &&
+           std::max(sizes.bitBytes, sizes.offsetBytes) <= context.storageBufferRange();
   };
   while (defaultDepth && depth_ > 0 && !fits(boxes.size())) {
     boxes = boxesAtDepth(tree, --depth_, settings.minTriangles);
@@ -52,7 +53,7 @@ NTreeCandidateTracer::NTreeCandidateTracer(const gpu::Context& context, const Sc
                      "--linespace-budget (MB)");
   }
   lineSpace_ = std::make_unique<LineSpaceTracer>(context, scene, tree, ls);
-  candidates_ = buildCandidateLineSpace(scene, boxes, CandidateSettings{ls.n, budget, false},
+  candidates_ = buildCandidateLineSpace(scene, boxes, CandidateSettings{ls.n, budget, false, context.maxBufferBytes()},
                                         context.storageBufferRange(), MeshSet::Static);
   nodeMap_.assign(tree.nodes.size(), CS_NONE);
   for (std::uint32_t i = 0; i < boxes.size(); ++i) nodeMap_[boxes[i].node] = i;
@@ -61,7 +62,7 @@ NTreeCandidateTracer::NTreeCandidateTracer(const gpu::Context& context, const Sc
 
 shared::CsParams NTreeCandidateTracer::params() const {
   const float cosMax = maxDeviationDeg_ >= 180.0f ? -2.0f : std::cos(maxDeviationDeg_ * 3.14159265f / 180.0f);
-  return shared::CsParams{candidates_.n, cosMax, 0u, 0u};
+  return shared::CsParams{candidates_.n, cosMax, buffers_->candidatesAddress()};
 }
 
 gpu::Descriptors& NTreeCandidateTracer::addBindings(gpu::Descriptors& descriptors) const {

@@ -282,10 +282,17 @@ TEST(CandidateBudget, RefusedBeforeAnyWork) {
   EXPECT_THROW(buildCandidateLineSpace(scene, two, settings, 0), InputError);
 
   settings.budgetBytes = 0;
-  const std::string binding =
-      messageOf([&] { buildCandidateLineSpace(scene, two, settings, candidateWorstCaseSizes(4, 2).candidateBytes - 1); });
+  // Bits, offsets and boxes are bound (one binding's range); the candidates are read through an
+  // address (one buffer's size): each limit is checked against its own.
+  const CandidateSizes worst = candidateWorstCaseSizes(4, 2);
+  const std::string binding = messageOf([&] { buildCandidateLineSpace(scene, two, settings, worst.bitBytes - 1); });
   EXPECT_NE(binding.find("maxStorageBufferRange"), std::string::npos) << binding;
   EXPECT_NE(binding.find("N=4"), std::string::npos) << binding;
+  EXPECT_NO_THROW(buildCandidateLineSpace(scene, two, settings, worst.bitBytes)) << "the candidates are not bound";
+  settings.maxCandidateBytes = worst.candidateBytes - 1;
+  const std::string buffer = messageOf([&] { buildCandidateLineSpace(scene, two, settings, 0); });
+  EXPECT_NE(buffer.find("maxBufferSize"), std::string::npos) << buffer;
+  settings.maxCandidateBytes = 0;
   settings.n = 11;
   EXPECT_NE(messageOf([&] { buildCandidateLineSpace(scene, two, settings, 0); }).find("N=11"), std::string::npos);
 }

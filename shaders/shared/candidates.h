@@ -26,10 +26,12 @@ PN_BEGIN
 //   CS_BINDING_BOXES            CsBox csBoxes[]            one per line space
 //   CS_BINDING_BITS             uint csBits[]              csWordsPerBox(N) per line space
 //   CS_BINDING_OFFSETS          uint csOffsets[]           one per word of csBits
-//   CS_BINDING_CANDIDATES       uint csCandidates[]        scene-order triangle indices
 //   CS_BINDING_NODE_MAP         uint csNodeMap[]           per BVH node: its line space or CS_NONE
 //                                                          (bvh_ls_traverse.glsl only)
 //   CS_BINDING_SCENE_TRIANGLES  SceneTriangle csSceneTriangles[]  (shared/scene_triangles.h)
+// The packed candidates (scene-order triangle indices), the largest by far, are read through their
+// buffer's device address (CsParams::candidates), so that they are not held to one binding's
+// range (128 MiB on lavapipe): the includer enables GL_EXT_buffer_reference and _uvec2.
 #ifndef CS_BINDING_BOXES
 #define CS_BINDING_BOXES 5
 #endif
@@ -38,9 +40,6 @@ PN_BEGIN
 #endif
 #ifndef CS_BINDING_OFFSETS
 #define CS_BINDING_OFFSETS 7
-#endif
-#ifndef CS_BINDING_CANDIDATES
-#define CS_BINDING_CANDIDATES 8
 #endif
 #ifndef CS_BINDING_NODE_MAP
 #define CS_BINDING_NODE_MAP 9
@@ -54,7 +53,6 @@ PN_BEGIN
 #define CS_NTREE_BINDING_BOXES 4
 #define CS_NTREE_BINDING_BITS 5
 #define CS_NTREE_BINDING_OFFSETS 6
-#define CS_NTREE_BINDING_CANDIDATES 7
 #define CS_NTREE_BINDING_NODE_MAP 10
 
 // Counters of candidate_rays.comp beside shared/bvh.h's (rays, node visits, triangle tests), as
@@ -75,7 +73,7 @@ struct CsParams {
   uint n;                  // line-space resolution N (LS_MIN_N..LS_MAX_N)
   float cosMaxDeviation;   // cos of the largest angle between the extrapolated vertex normal and the
                            // candidate's face normal at which a plane hit is kept; -1 keeps all
-  uint pad0, pad1;
+  uvec2 candidates;        // device address (low, high) of the packed candidates (uint[])
 };
 
 // Modes of candidate_rays.comp.
