@@ -18,28 +18,28 @@ constexpr vk::DescriptorType kBuffer = vk::DescriptorType::eStorageBuffer;
 constexpr vk::DescriptorType kSampled = vk::DescriptorType::eCombinedImageSampler;
 constexpr gpu::Binding kBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
-    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer},
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}};
 
-// bvh-ls: the candidate line space's buffers instead of this pass's triangles.
+// bvh-ls: the candidate line space's buffers.
 constexpr gpu::Binding kLsBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage}, {INDIRECT_BINDING_NORMAL, kImage}, {INDIRECT_BINDING_FRAME, kBuffer},
     {INDIRECT_BINDING_OUTPUT, kBuffer},  {INDIRECT_BINDING_COUNTERS, kBuffer}, {INDIRECT_BINDING_SHADOW_MAP, kSampled},
     {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {CS_BINDING_BOXES, kBuffer},
     {CS_BINDING_BITS, kBuffer},          {CS_BINDING_OFFSETS, kBuffer},
-    {CS_BINDING_NODE_MAP, kBuffer},      {CS_BINDING_SCENE_TRIANGLES, kBuffer}};
+    {CS_BINDING_NODE_MAP, kBuffer}};
 
-// rq: the driver's top level and the scene-order triangle ids, beside this pass's triangles.
+// rq: the driver's top level and the scene-order triangle ids.
 constexpr gpu::Binding kRqBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
-    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer},
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer},
     {RQ_BINDING_SCENE, vk::DescriptorType::eAccelerationStructureKHR}, {RQ_BINDING_TRIANGLE_IDS, kBuffer}};
 
 // ntree: the line space's pools in exact mode and the moving meshes' BVH (LineSpaceTracer::addBindings).
 constexpr gpu::Binding kNTreeBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
-    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer},
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {LS_BINDING_TREE, kBuffer},
     {LS_BINDING_NODES, kBuffer},          {LS_BINDING_BITS, kBuffer},                 {LS_BINDING_BVH_NODES, kBuffer},
     {LS_BINDING_BVH_TRIANGLES, kBuffer},  {LS_BINDING_LEAVES, kBuffer},               {LS_BINDING_LEAF_TRIANGLES, kBuffer},
@@ -48,7 +48,7 @@ constexpr gpu::Binding kNTreeBindings[] = {
 // ntree-ls: the binary pools, the moving meshes' BVH and the candidate buffers (NTreeCandidateTracer).
 constexpr gpu::Binding kNTreeLsBindings[] = {
     {INDIRECT_BINDING_POSITION, kImage},  {INDIRECT_BINDING_NORMAL, kImage},          {INDIRECT_BINDING_FRAME, kBuffer},
-    {INDIRECT_BINDING_TRIANGLES, kBuffer}, {INDIRECT_BINDING_OUTPUT, kBuffer},        {INDIRECT_BINDING_COUNTERS, kBuffer},
+    {INDIRECT_BINDING_OUTPUT, kBuffer},   {INDIRECT_BINDING_COUNTERS, kBuffer},
     {INDIRECT_BINDING_SHADOW_MAP, kSampled}, {INDIRECT_BINDING_SHADOW_TEXELS, kBuffer}, {LS_BINDING_TREE, kBuffer},
     {LS_BINDING_NODES, kBuffer},          {LS_BINDING_BITS, kBuffer},                 {LS_BINDING_BVH_NODES, kBuffer},
     {LS_BINDING_BVH_TRIANGLES, kBuffer},  {CS_NTREE_BINDING_BOXES, kBuffer},          {CS_NTREE_BINDING_BITS, kBuffer},
@@ -74,8 +74,15 @@ struct NTreeLsPush {
 };
 static_assert(sizeof(shared::IndirectParams) == 32, "IndirectParams must match std430");
 
-vk::DeviceSize triangleBytes(const Scene& scene) {
-  return std::max<vk::DeviceSize>(1, scene.triangleCount()) * sizeof(shared::SceneTriangle);
+// Read through its address: held to one buffer's size, not one binding's range.
+vk::DeviceSize triangleBytes(const gpu::Context& context, const Scene& scene) {
+  const vk::DeviceSize bytes = std::max<vk::DeviceSize>(1, scene.triangleCount()) * sizeof(shared::SceneTriangle);
+  if (bytes > context.maxBufferBytes()) {
+    throw InputError("ao/indirect: the scene's " + std::to_string(scene.triangleCount()) + " triangles need " +
+                     std::to_string(bytes >> 20) + " MiB in one buffer, over this device's " +
+                     std::to_string(context.maxBufferBytes() >> 20) + " MiB (maxBufferSize, maxMemoryAllocationSize)");
+  }
+  return bytes;
 }
 
 }  // namespace
@@ -97,7 +104,7 @@ std::string indirectTracerList() {
 
 IndirectPass::IndirectPass(const gpu::Context& context, const Scene& scene)
     : context_(context),
-      triangles_(context, triangleBytes(scene), vk::BufferUsageFlagBits::eStorageBuffer, "scene triangles"),
+      triangles_(context, triangleBytes(context, scene), vk::BufferUsageFlagBits::eShaderDeviceAddress, "scene triangles"),
       counters_(context, INDIRECT_COUNTER_WORDS * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer |
                 vk::BufferUsageFlagBits::eTransferDst, "indirect counters"),
       bvh_(context, indirect_bvh_comp, kBindings, sizeof(BvhPush), "indirect rays (bvh)"),
@@ -112,7 +119,7 @@ void IndirectPass::update(const Scene& scene) {
   triangles_.upload(std::span<const shared::SceneTriangle>(triangles));
 }
 
-void IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd) {
+shared::IndirectParams IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd, shared::IndirectParams params) {
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
   gpu::memoryBarrier(cmd, Stage::eComputeShader, Access::eShaderStorageRead | Access::eShaderStorageWrite,
@@ -120,9 +127,11 @@ void IndirectPass::recordStart(const vk::raii::CommandBuffer& cmd) {
   cmd.fillBuffer(counters_.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::memoryBarrier(cmd, Stage::eTransfer, Access::eTransferWrite, Stage::eComputeShader,
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
+  params.triangles = gpu::addressHalves(triangles_);
+  return params;
 }
 
-gpu::Descriptors IndirectPass::descriptors(const IndirectTargets& t, bool ownTriangles) const {
+gpu::Descriptors IndirectPass::descriptors(const IndirectTargets& t) const {
   gpu::Descriptors d;
   d.storageImage(INDIRECT_BINDING_POSITION, t.gbuffer.position().view())
       .storageImage(INDIRECT_BINDING_NORMAL, t.gbuffer.normal().view())
@@ -131,7 +140,6 @@ gpu::Descriptors IndirectPass::descriptors(const IndirectTargets& t, bool ownTri
       .buffer(INDIRECT_BINDING_COUNTERS, counters_)
       .sampledImage(INDIRECT_BINDING_SHADOW_MAP, t.shadowMap.depth().view(), t.shadowMap.sampler())
       .buffer(INDIRECT_BINDING_SHADOW_TEXELS, t.shadowMap.texels());
-  if (ownTriangles) d.buffer(INDIRECT_BINDING_TRIANGLES, triangles_);
   return d;
 }
 
@@ -144,53 +152,57 @@ void IndirectPass::dispatch(const vk::raii::CommandBuffer& cmd, const raster::GB
 // Each kernel's pipeline is specialized on how the light's map is read (light_texels.glsl).
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
                           const shared::IndirectParams& params, const BvhTracer& bvh) {
-  recordStart(cmd);
+  const shared::IndirectParams p = recordStart(cmd, params);
   const gpu::ComputePipeline& pipeline = bvh_(targets.shadowMap.hasTexelCopy());
   pipeline.bind(cmd, descriptors(targets));
-  pipeline.pushConstants(cmd, BvhPush{params, bvh.tracePush()});
+  pipeline.pushConstants(cmd, BvhPush{p, bvh.tracePush()});
   dispatch(cmd, targets.gbuffer);
 }
 
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
                           const shared::IndirectParams& params, const RayQueryTracer& rq) {
   if (!rq_) rq_.emplace(context_, indirect_rq_comp, kRqBindings, sizeof(shared::IndirectParams), "indirect rays (rq)");
-  recordStart(cmd);
+  const shared::IndirectParams p = recordStart(cmd, params);
   SceneAccelerationStructures::recordBuildToTrace(cmd);
   const gpu::ComputePipeline& pipeline = (*rq_)(targets.shadowMap.hasTexelCopy());
   gpu::Descriptors d = descriptors(targets);
   d.accelerationStructure(RQ_BINDING_SCENE, rq.structures().top()).buffer(RQ_BINDING_TRIANGLE_IDS, rq.structures().triangleIds());
   pipeline.bind(cmd, d);
-  pipeline.pushConstants(cmd, params);
+  pipeline.pushConstants(cmd, p);
   dispatch(cmd, targets.gbuffer);
 }
 
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
                           const shared::IndirectParams& params, const CandidateTracer& candidates) {
-  recordStart(cmd);
+  const shared::IndirectParams p = recordStart(cmd, params);
   const gpu::ComputePipeline& pipeline = bvhLs_(targets.shadowMap.hasTexelCopy());
-  gpu::Descriptors d = descriptors(targets, false);
+  gpu::Descriptors d = descriptors(targets);
   pipeline.bind(cmd, candidates.addBindings(d));
-  pipeline.pushConstants(cmd, BvhLsPush{params, {candidates.bvhAddresses(), BVH_NO_TREE, 0u, 0u, 0u}, candidates.params()});
+  shared::CsParams cs = candidates.params();
+  cs.triangles = p.triangles;  // the candidates' triangles: this pass's copy, as the hits' shading reads them
+  pipeline.pushConstants(cmd, BvhLsPush{p, {candidates.bvhAddresses(), BVH_NO_TREE, 0u, 0u, 0u}, cs});
   dispatch(cmd, targets.gbuffer);
 }
 
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
                           const shared::IndirectParams& params, const LineSpaceTracer& ntree) {
-  recordStart(cmd);
+  const shared::IndirectParams p = recordStart(cmd, params);
   const gpu::ComputePipeline& pipeline = ntree_(targets.shadowMap.hasTexelCopy());
   gpu::Descriptors d = descriptors(targets);
   pipeline.bind(cmd, ntree.addBindings(d));
-  pipeline.pushConstants(cmd, NTreePush{params, ntree.push()});
+  pipeline.pushConstants(cmd, NTreePush{p, ntree.push()});
   dispatch(cmd, targets.gbuffer);
 }
 
 void IndirectPass::record(const vk::raii::CommandBuffer& cmd, const IndirectTargets& targets,
                           const shared::IndirectParams& params, const NTreeCandidateTracer& ntreeLs) {
-  recordStart(cmd);
+  const shared::IndirectParams p = recordStart(cmd, params);
   const gpu::ComputePipeline& pipeline = ntreeLs_(targets.shadowMap.hasTexelCopy());
-  gpu::Descriptors d = descriptors(targets);  // the pass's triangles are the candidates' too
+  gpu::Descriptors d = descriptors(targets);
   pipeline.bind(cmd, ntreeLs.addBindings(d));
-  pipeline.pushConstants(cmd, NTreeLsPush{params, ntreeLs.push(), ntreeLs.params()});
+  shared::CsParams cs = ntreeLs.params();
+  cs.triangles = p.triangles;  // the candidates' triangles: this pass's
+  pipeline.pushConstants(cmd, NTreeLsPush{p, ntreeLs.push(), cs});
   dispatch(cmd, targets.gbuffer);
 }
 

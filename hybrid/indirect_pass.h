@@ -81,9 +81,9 @@ class IndirectPass {
   std::uint64_t bytes() const { return triangles_.size(); }
 
  private:
-  void recordStart(const vk::raii::CommandBuffer& cmd);
-  // ownTriangles: bind this pass's scene triangles (tracers that bind their own leave them out)
-  gpu::Descriptors descriptors(const IndirectTargets& targets, bool ownTriangles = true) const;
+  // Zeroes the counters; returns params with this pass's scene triangles (read through their address).
+  shared::IndirectParams recordStart(const vk::raii::CommandBuffer& cmd, shared::IndirectParams params);
+  gpu::Descriptors descriptors(const IndirectTargets& targets) const;
   void dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer) const;
 
   const gpu::Context& context_;

@@ -16,8 +16,7 @@ constexpr gpu::Binding kBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType:
                                       {CS_BINDING_BOXES, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_OFFSETS, vk::DescriptorType::eStorageBuffer},
-                                      {CS_BINDING_NODE_MAP, vk::DescriptorType::eStorageBuffer},
-                                      {CS_BINDING_SCENE_TRIANGLES, vk::DescriptorType::eStorageBuffer}};
+                                      {CS_BINDING_NODE_MAP, vk::DescriptorType::eStorageBuffer}};
 
 constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_t);
 constexpr auto kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
@@ -61,14 +60,15 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
       triangles_(uploaded(context, bvh_.triangles, vk::BufferUsageFlagBits::eShaderDeviceAddress,
                           "candidate bvh triangles")),
       buffers_(context, lineSpace_, nodeMap_),
-      sceneTriangles_(uploaded(context, sceneTriangles(scene), kStorage, "candidate scene triangles")),
+      sceneTriangles_(uploaded(context, sceneTriangles(scene), vk::BufferUsageFlagBits::eShaderDeviceAddress,
+                               "candidate scene triangles")),
       counters_(context, kCounterBytes, kStorage, "candidate counters"),
       pipeline_(context, candidate_rays_comp, kBindings, sizeof(shared::CsRaysPush), "candidate rays pipeline"),
       rayBatches_(context, "candidates") {}
 
 shared::CsParams CandidateTracer::params() const {
   const float cosMax = maxDeviationDeg_ >= 180.0f ? -2.0f : std::cos(glm::radians(maxDeviationDeg_));
-  return shared::CsParams{lineSpace_.n, cosMax, buffers_.candidatesAddress()};
+  return shared::CsParams{lineSpace_.n, cosMax, buffers_.candidatesAddress(), gpu::addressHalves(sceneTriangles_), 0u, 0u};
 }
 
 shared::BvhAddresses CandidateTracer::bvhAddresses() const {
@@ -76,7 +76,7 @@ shared::BvhAddresses CandidateTracer::bvhAddresses() const {
 }
 
 gpu::Descriptors& CandidateTracer::addBindings(gpu::Descriptors& descriptors) const {
-  return buffers_.addBindings(descriptors).buffer(CS_BINDING_SCENE_TRIANGLES, sceneTriangles_);
+  return buffers_.addBindings(descriptors);
 }
 
 std::uint64_t CandidateTracer::bytes() const {

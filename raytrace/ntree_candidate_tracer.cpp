@@ -62,7 +62,7 @@ NTreeCandidateTracer::NTreeCandidateTracer(const gpu::Context& context, const Sc
 
 shared::CsParams NTreeCandidateTracer::params() const {
   const float cosMax = maxDeviationDeg_ >= 180.0f ? -2.0f : std::cos(maxDeviationDeg_ * 3.14159265f / 180.0f);
-  return shared::CsParams{candidates_.n, cosMax, buffers_->candidatesAddress()};
+  return shared::CsParams{candidates_.n, cosMax, buffers_->candidatesAddress(), {0u, 0u}, 0u, 0u};
 }
 
 gpu::Descriptors& NTreeCandidateTracer::addBindings(gpu::Descriptors& descriptors) const {

@@ -3,9 +3,9 @@
 // The includer:
 //   - puts a CsParams (shared/candidates.h) in its push constants or a uniform and defines
 //     CS_PARAMS to name it (e.g. `#define CS_PARAMS push.cs`) before including this file;
-//   - binds the buffers at CS_BINDING_BOXES, _BITS, _OFFSETS and _SCENE_TRIANGLES (defaults 5, 6,
-//     7, 10; define any of them first to move it); the packed candidates are read through the
-//     address in CS_PARAMS.candidates (GL_EXT_buffer_reference and _uvec2 enabled);
+//   - binds the buffers at CS_BINDING_BOXES, _BITS and _OFFSETS (defaults 5, 6, 7; define any of
+//     them first to move it); the packed candidates and the scene's triangles are read through the
+//     addresses in CS_PARAMS (GL_EXT_buffer_reference and _uvec2 enabled);
 //   - may read csCandidateTests (plane tests of the calling invocation) for its statistics.
 // csHit clips the ray's infinite line to the line space's box (a ray starting inside still uses the
 // line's entry, as in the paper), finds the directed shaft of its entry and exit patches, and
@@ -26,9 +26,8 @@ layout(std430, binding = CS_BINDING_BITS) readonly buffer CsBits { uint csBits[]
 layout(std430, binding = CS_BINDING_OFFSETS) readonly buffer CsOffsets { uint csOffsets[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer CsCandidateArray { uint v[]; };
 #define csCandidates CsCandidateArray(CS_PARAMS.candidates).v
-layout(std430, binding = CS_BINDING_SCENE_TRIANGLES) readonly buffer CsSceneTriangles {
-  SceneTriangle csSceneTriangles[];
-};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsSceneTriangleArray { SceneTriangle v[]; };
+#define csSceneTriangles CsSceneTriangleArray(CS_PARAMS.triangles).v
 
 uint csCandidateTests = 0u;  // candidate planes tested by the calling invocation
 

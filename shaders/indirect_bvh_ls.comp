@@ -18,7 +18,6 @@ layout(push_constant) uniform Push {
 #define BVH_NO_COUNTERS
 #define CS_PARAMS cs
 #include "bvh_ls_traverse.glsl"
-#define INDIRECT_TRIANGLES csSceneTriangles
 
 bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
   vec3 normal;

@@ -17,12 +17,10 @@
 #define BVH_BINDING_TRIANGLES LS_BINDING_BVH_TRIANGLES
 #include "shared/linespace.h"
 #include "shared/indirect.h"
-// The candidate buffers beside the line space's LS_BINDING_* (shared/candidates.h); the scene's
-// triangles are the indirect pass's own.
+// The candidate buffers beside the line space's LS_BINDING_* (shared/candidates.h).
 #define CS_BINDING_BOXES CS_NTREE_BINDING_BOXES
 #define CS_BINDING_BITS CS_NTREE_BINDING_BITS
 #define CS_BINDING_OFFSETS CS_NTREE_BINDING_OFFSETS
-#define CS_BINDING_SCENE_TRIANGLES INDIRECT_BINDING_TRIANGLES
 #define LS_CANDIDATE_NODE_MAP_BINDING CS_NTREE_BINDING_NODE_MAP
 #include "shared/candidates.h"
 layout(push_constant) uniform Push {
@@ -32,7 +30,6 @@ layout(push_constant) uniform Push {
 };
 #define CS_PARAMS cs
 #include "candidate_lookup.glsl"
-#define INDIRECT_TRIANGLES csSceneTriangles
 #define LS_PUSH_DECLARED
 #define LS_NO_COUNTERS
 #define LS_CANDIDATES

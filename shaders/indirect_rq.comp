@@ -6,6 +6,8 @@
 #extension GL_EXT_ray_query : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/bvh.h"
 #include "shared/indirect.h"
 layout(push_constant) uniform Push { IndirectParams params; };

@@ -5,8 +5,8 @@
 //   bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax, bool aoRay)  (aoRay: an ao
 //     ray; else a shadow ray from a bounce's hit)
 //   uint indirectVisits(), uint indirectTests()  (this invocation's traversal counts)
-// and, where its structure already binds the scene's triangles, INDIRECT_TRIANGLES naming them.
-// Not compiled on its own; includers enable GL_KHR_shader_subgroup_basic and _arithmetic.
+// Not compiled on its own; includers enable GL_KHR_shader_subgroup_basic and _arithmetic, and
+// GL_EXT_buffer_reference and _uvec2 (the scene's triangles are read through params.triangles).
 #include "shared/frame.h"
 #include "shared/indirect.h"
 
@@ -14,10 +14,7 @@ layout(local_size_x = INDIRECT_GROUP_SIZE, local_size_y = INDIRECT_GROUP_SIZE) i
 layout(binding = INDIRECT_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
 layout(binding = INDIRECT_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
 layout(std430, binding = INDIRECT_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
-#ifndef INDIRECT_TRIANGLES
-layout(std430, binding = INDIRECT_BINDING_TRIANGLES) readonly buffer Triangles { SceneTriangle sceneTriangles[]; };
-#define INDIRECT_TRIANGLES sceneTriangles
-#endif
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer IndirectTriangleArray { SceneTriangle v[]; };
 layout(std430, binding = INDIRECT_BINDING_OUTPUT) writeonly buffer Output { vec4 indirectOut[]; };
 layout(std430, binding = INDIRECT_BINDING_COUNTERS) buffer Counters { uint indirectCounters[INDIRECT_COUNTER_WORDS]; };
 layout(binding = INDIRECT_BINDING_SHADOW_MAP) uniform sampler2DArray shadowMap;
@@ -63,7 +60,7 @@ void main() {
         float t;
         uint triangle;
         if (!indirectClosest(origin, dir, 0.0f, params.rayMax, t, triangle)) continue;
-        IndirectHit hit = indirectHit(INDIRECT_TRIANGLES[triangle], origin, dir, t, light);
+        IndirectHit hit = indirectHit(IndirectTriangleArray(params.triangles).v[triangle], origin, dir, t, light);
         if (!hit.lit) continue;
         if (params.hitLight == INDIRECT_HIT_SHADOW_MAP) {
           light3 += hit.reflected * shadowMapVisibility(hit.position, hit.face);

@@ -7,9 +7,11 @@
 
 #include "core/animation.h"
 #include "core/mesh_builder.h"
+#include "core/scene_loader.h"
 #include "core/metrics.h"
 #include "hybrid/method.h"
 #include "render_fixture.h"
+#include "shared/scene_triangles.h"
 
 namespace penumbra {
 namespace {
@@ -253,6 +255,31 @@ TEST(Indirect, NTreeTracersRefuseToExceedTheBudget) {
       EXPECT_NE(std::string(e.what()).find("--linespace-budget"), std::string::npos) << e.what();
     }
   }
+  expectValidationSilent();
+}
+
+// The scene's triangles and the packed candidates are read through device addresses, so a device
+// whose storage bindings span only 1 MiB (ContextOptions' test limit) renders the same frames:
+// the courtyard's 1.8 MB of SceneTriangles and its candidates do not fit one binding there.
+TEST(Indirect, TrianglesAndCandidatesLargerThanOneBindingTrace) {
+  gpu::Context limited({.validate = true, .printMessages = true, .storageBufferRangeLimit = 1u << 20});
+  const Scene scene = loadScene("builtin:courtyard");
+  ASSERT_GT(scene.triangleCount() * sizeof(shared::SceneTriangle), limited.storageBufferRange());
+  RenderSettings settings = indirectSettings(96, 4);
+  settings.lineSpace.n = 4;
+  settings.indirect.bvhDepth = 6;
+  Renderer full(test::validatedContext(), scene, settings), small(limited, scene, settings);
+  const Camera camera = *scene.camera;
+  const Light light = scene.lights.front();
+  for (const char* method : {"indirect-bvh", "ao-bvh-ls", "indirect-bvh-ls"}) {
+    const Frame f = full.render(method, camera, light);
+    EXPECT_EQ(small.render(method, camera, light).visibility, f.visibility) << method;
+    for (const std::string& note : f.stats.notes) {
+      if (note.find("candidate line space") != std::string::npos) std::printf("%s\n", note.c_str());
+    }
+  }
+  const auto messages = limited.validationMessages();
+  EXPECT_TRUE(messages.empty()) << messages.front();
   expectValidationSilent();
 }
 

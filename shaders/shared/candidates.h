@@ -28,10 +28,10 @@ PN_BEGIN
 //   CS_BINDING_OFFSETS          uint csOffsets[]           one per word of csBits
 //   CS_BINDING_NODE_MAP         uint csNodeMap[]           per BVH node: its line space or CS_NONE
 //                                                          (bvh_ls_traverse.glsl only)
-//   CS_BINDING_SCENE_TRIANGLES  SceneTriangle csSceneTriangles[]  (shared/scene_triangles.h)
-// The packed candidates (scene-order triangle indices), the largest by far, are read through their
-// buffer's device address (CsParams::candidates), so that they are not held to one binding's
-// range (128 MiB on lavapipe): the includer enables GL_EXT_buffer_reference and _uvec2.
+// The packed candidates (scene-order triangle indices), the largest by far, and the scene's
+// triangles (SceneTriangle) are read through their buffers' device addresses (CsParams), so that
+// they are not held to one binding's range (128 MiB on lavapipe): the includer enables
+// GL_EXT_buffer_reference and _uvec2.
 #ifndef CS_BINDING_BOXES
 #define CS_BINDING_BOXES 5
 #endif
@@ -43,9 +43,6 @@ PN_BEGIN
 #endif
 #ifndef CS_BINDING_NODE_MAP
 #define CS_BINDING_NODE_MAP 9
-#endif
-#ifndef CS_BINDING_SCENE_TRIANGLES
-#define CS_BINDING_SCENE_TRIANGLES 10
 #endif
 
 // The N-tree variant's bindings (indirect_ntree_ls.comp, beside the line space's LS_BINDING_*):
@@ -67,13 +64,15 @@ struct CsBox {
   uint node;      // the node it belongs to in its hierarchy (BVH node or N-tree node index)
 };
 
-// What csHit needs besides the buffers, 16 bytes: the includer puts one in its push constants (or
+// What csHit needs besides the buffers, 32 bytes: the includer puts one in its push constants (or
 // a uniform) and defines CS_PARAMS to name it before including candidate_lookup.glsl.
 struct CsParams {
   uint n;                  // line-space resolution N (LS_MIN_N..LS_MAX_N)
   float cosMaxDeviation;   // cos of the largest angle between the extrapolated vertex normal and the
                            // candidate's face normal at which a plane hit is kept; -1 keeps all
   uvec2 candidates;        // device address (low, high) of the packed candidates (uint[])
+  uvec2 triangles;         // device address of the scene's triangles (SceneTriangle[], scene order)
+  uint pad0, pad1;
 };
 
 // Modes of candidate_rays.comp.
@@ -81,7 +80,7 @@ struct CsParams {
 #define CS_MODE_BVH_EXACT 1u  // the same BVH, every node descended (the exact reference on the GPU)
 #define CS_MODE_BOX 2u        // csHit on line space `box` alone
 
-// Push constants of candidate_rays.comp, 48 bytes.
+// Push constants of candidate_rays.comp, 64 bytes.
 struct CsRaysPush {
   BvhAddresses bvh;  // the BVH's node and triangle buffers (shared/bvh.h)
   CsParams cs;

@@ -28,7 +28,6 @@ PN_BEGIN
 #define INDIRECT_BINDING_POSITION 20
 #define INDIRECT_BINDING_NORMAL 21
 #define INDIRECT_BINDING_FRAME 22
-#define INDIRECT_BINDING_TRIANGLES 23  // SceneTriangle by scene-order index
 #define INDIRECT_BINDING_OUTPUT 24     // vec4 per pixel: rgb indirect light, a occlusion (1 - ao)
 #define INDIRECT_BINDING_COUNTERS 25   // INDIRECT_COUNTER_WORDS uint
 #define INDIRECT_BINDING_SHADOW_MAP 26     // the light's map (sampler2DArray) ...
@@ -49,7 +48,7 @@ struct IndirectParams {
   float aoRadius;  // world units
   float rayMax;    // world units: indirect rays of `indirect` end here (past the scene)
   uint hitLight;   // INDIRECT_HIT_SHADOW_RAY or INDIRECT_HIT_SHADOW_MAP
-  uint pad1, pad2;
+  uvec2 triangles; // device address (low, high) of the scene's triangles (SceneTriangle[], scene order)
 };
 
 // Unit vectors t, b completing unit n to a right-handed frame (Duff et al. 2017).
