@@ -115,6 +115,20 @@ uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, floa
 #endif
 }
 
+// Steps the DDA past `cell` of `node`'s grid: across the boundary the ray reaches first (at tNext);
+// the next cell, or ivec3(-1) when the ray leaves the grid or its segment (exit tOut) there.
+ivec3 lsNextCell(LsNode node, ivec3 cell, vec3 origin, vec3 invDir, ivec3 stepDir, float tOut, out float tNext) {
+  int n = int(lsPush.n);
+  float cellSize = node.size / float(n);
+  vec3 boundary = node.position + vec3(cell + max(stepDir, ivec3(0))) * cellSize;
+  vec3 tCross = (boundary - origin) * invDir;
+  tNext = min(tCross.x, min(tCross.y, tCross.z));
+  ivec3 axisMask = tCross.x == tNext ? ivec3(1, 0, 0) : (tCross.y == tNext ? ivec3(0, 1, 0) : ivec3(0, 0, 1));
+  ivec3 nextCell = cell + axisMask * stepDir;
+  bool leaves = tNext >= tOut || any(lessThan(nextCell, ivec3(0))) || any(greaterThanEqual(nextCell, ivec3(n)));
+  return leaves ? ivec3(-1) : nextCell;
+}
+
 // The cell of `node`'s grid that holds point p (clamped to the grid).
 ivec3 lsCellOf(LsNode node, vec3 p) {
   float n = float(lsPush.n);
@@ -172,15 +186,8 @@ bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out 
       continue;
     }
     LsNode node = lsNodes[frameNode[level]];
-    // Step the DDA past this cell: across the boundary the ray reaches first.
-    float cellSize = node.size / float(n);
-    vec3 boundary = node.position + vec3(cell + max(stepDir, ivec3(0))) * cellSize;
-    vec3 tCross = (boundary - origin) * invDir;
-    float tNext = min(tCross.x, min(tCross.y, tCross.z));
-    ivec3 axisMask = tCross.x == tNext ? ivec3(1, 0, 0) : (tCross.y == tNext ? ivec3(0, 1, 0) : ivec3(0, 0, 1));
-    ivec3 nextCell = cell + axisMask * stepDir;
-    bool leaves = tNext >= frameOut[level] || any(lessThan(nextCell, ivec3(0))) || any(greaterThanEqual(nextCell, ivec3(n)));
-    frameCell[level] = leaves ? ivec3(-1) : nextCell;
+    float tNext;
+    frameCell[level] = lsNextCell(node, cell, origin, invDir, stepDir, frameOut[level], tNext);
 
     uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
     if (child == LS_SKIP) continue;
@@ -256,14 +263,8 @@ bool lsCandidateClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out fl
       continue;
     }
     LsNode node = lsNodes[frameNode[level]];
-    float cellSize = node.size / float(n);
-    vec3 boundary = node.position + vec3(cell + max(stepDir, ivec3(0))) * cellSize;
-    vec3 tCross = (boundary - origin) * invDir;
-    float tNext = min(tCross.x, min(tCross.y, tCross.z));
-    ivec3 axisMask = tCross.x == tNext ? ivec3(1, 0, 0) : (tCross.y == tNext ? ivec3(0, 1, 0) : ivec3(0, 0, 1));
-    ivec3 nextCell = cell + axisMask * stepDir;
-    bool leaves = tNext >= frameOut[level] || any(lessThan(nextCell, ivec3(0))) || any(greaterThanEqual(nextCell, ivec3(n)));
-    frameCell[level] = leaves ? ivec3(-1) : nextCell;
+    float tNext;
+    frameCell[level] = lsNextCell(node, cell, origin, invDir, stepDir, frameOut[level], tNext);
 
     uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
     if (child == LS_SKIP) continue;
