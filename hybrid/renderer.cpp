@@ -6,16 +6,13 @@
 #include <cstring>
 
 #include "core/gpu_light.h"
+#include "core/units.h"
 #include "hybrid/method.h"
 #include "shared/compact.h"
 #include "shared/trace.h"
 
 namespace penumbra {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
 

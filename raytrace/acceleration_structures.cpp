@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/units.h"
+
 namespace penumbra {
 namespace {
 
@@ -17,10 +19,6 @@ const vk::BufferUsageFlags kInput = Usage::eAccelerationStructureBuildInputReadO
 const vk::BufferUsageFlags kStorage = Usage::eAccelerationStructureStorageKHR | Usage::eShaderDeviceAddress;
 
 vk::DeviceSize alignUp(vk::DeviceSize value, vk::DeviceSize alignment) { return (value + alignment - 1) / alignment * alignment; }
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 std::uint32_t triangles(const Mesh& mesh) { return std::uint32_t(mesh.indices.size() / 3); }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/units.h"
+
 namespace penumbra {
 namespace {
 
@@ -23,10 +25,6 @@ struct Box {
     hi = glm::max(hi, b.hi);
   }
 };
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 

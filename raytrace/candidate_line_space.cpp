@@ -13,22 +13,13 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/units.h"
 #include "raytrace/embree_handles.h"
 #include "raytrace/line_space.h"
 #include "shared/linespace.h"
 
 namespace penumbra {
 namespace {
-
-std::string megabytes(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.1f MB", double(bytes) / 1e6);
-  return text;
-}
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Runs body(i) for i in [0, count) on all cores, items handed out one at a time.
 template <typename Body>
@@ -225,7 +216,7 @@ CandidateLineSpace buildCandidateLineSpace(const Scene& scene, std::span<const C
 
   const auto embreeStart = std::chrono::steady_clock::now();
   EmbreeScene embree(scene, set);
-  out.stats.embreeMs = millisecondsSince(embreeStart);
+  out.stats.embreeMs = msSince(embreeStart);
 
   // The segments of one box: centroids of every patch; each directed pair of faces.
   std::vector<std::vector<std::uint32_t>> packed(boxes.size());
@@ -270,7 +261,7 @@ CandidateLineSpace buildCandidateLineSpace(const Scene& scene, std::span<const C
   embree.check("tracing");
   finishLayout(out, packed);
   out.stats.raysCast = out.stats.shafts;
-  out.stats.buildMs = millisecondsSince(start);
+  out.stats.buildMs = msSince(start);
   return out;
 }
 

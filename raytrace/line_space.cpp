@@ -10,23 +10,10 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/units.h"
 #include "raytrace/shaft_table.h"
 
 namespace penumbra {
-namespace {
-
-std::string megabytes(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.1f MB", double(bytes) / 1e6);
-  return text;
-}
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
-
 const char* shadowsName(LineSpaceSettings::Shadows shadows) {
   return shadows == LineSpaceSettings::Shadows::Exact ? "exact" : "binary";
 }
@@ -122,7 +109,7 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
 
   const auto tableStart = std::chrono::steady_clock::now();
   const ShaftTable& table = ShaftTable::get(n);
-  const double tableMs = millisecondsSince(tableStart);
+  const double tableMs = msSince(tableStart);
 
   LineSpace ls;
   ls.n = n;
@@ -196,7 +183,7 @@ LineSpace buildLineSpace(const NTree& tree, const LineSpaceSettings& settings, s
             dynamicBvhBytes;
   s.treeMs = tree.stats.buildMs;
   s.tableMs = tableMs;
-  s.lineSpaceMs = millisecondsSince(start);
+  s.lineSpaceMs = msSince(start);
   s.buildMs = s.treeMs + s.lineSpaceMs;
   s.filledFraction = double(setBits.load()) / (double(s.nodes) * shared::lsShaftCount(n));
   return ls;

@@ -3,17 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/units.h"
+
 namespace penumbra {
-namespace {
-
-std::string megabytes(std::uint64_t bytes) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.1f MB", double(bytes) / 1e6);
-  return text;
-}
-
-}  // namespace
-
 NTreeCandidateTracer::NTreeCandidateTracer(const gpu::Context& context, const Scene& scene,
                                            const NTreeCandidateSettings& settings)
     : maxDeviationDeg_(settings.maxNormalDeviationDeg) {
