@@ -2,6 +2,7 @@
 // that renders a scene's default view with a method. Validation messages fail the test that
 // caused them.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -64,6 +65,16 @@ inline double differingPixels(const Frame& a, const Frame& b, bool awayFromEdges
     differ += std::abs(a.visibility[i] - b.visibility[i]) > 0.5f;
   }
   return covered ? double(differ) / double(covered) : 1.0;
+}
+
+// The message of the InputError that f throws, or "(no InputError)".
+inline std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
 }
 
 inline RenderSettings smallSettings(std::uint32_t size = 256, std::uint32_t shadowMapRes = 2048) {

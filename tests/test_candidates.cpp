@@ -27,16 +27,8 @@ namespace penumbra {
 namespace {
 
 using test::expectValidationSilent;
+using test::messageOf;
 using test::validatedContext;
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
 
 // Scene-order triangles of a scene, in double.
 std::vector<std::array<glm::dvec3, 3>> triangles(const Scene& scene) {

@@ -28,16 +28,8 @@ namespace penumbra {
 namespace {
 
 using test::expectValidationSilent;
+using test::messageOf;
 using test::validatedContext;
-
-std::string messageOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
 
 // ---- Settings and budget -------------------------------------------------------------------
 
