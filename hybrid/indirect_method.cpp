@@ -3,13 +3,14 @@
 // (shared/indirect.h) on the chosen tracer for ambient occlusion (`ao`) or one-bounce diffuse
 // light (`indirect`), into Renderer::indirect(), which the shading pass adds. On tracer embree
 // the same rays are traced on the CPU: the reference the others are compared with. Tracers: bvh
-// (exact), bvh-ls (BVH + candidate line spaces), ntree (the N-tree's line space in exact mode:
-// exact), ntree-ls (N-tree + candidate line spaces; its hits' shadow rays on the binary line space).
+// and rq (exact), bvh-ls (BVH + candidate line spaces), ntree (the N-tree's line space in exact
+// mode: exact), ntree-ls (N-tree + candidate line spaces; its hits' shadow rays on the binary line space).
 // Names: ao, indirect (settings.indirect.tracer), or ao-<tracer>, indirect-<tracer>.
 #include <chrono>
 #include <string>
 #include <utility>
 
+#include "core/units.h"
 #include "hybrid/method.h"
 #include "hybrid/renderer.h"
 #include "raytrace/scene_triangles.h"
@@ -43,13 +44,6 @@ class IndirectMethod final : public Method {
     if (tracer == "embree") return runReference(r, stats, params);
 
     IndirectPass& pass = r.indirectPass(stats);
-    auto recordDirect = [&](const vk::raii::CommandBuffer& cmd) {
-      r.recordGBuffer(cmd);
-      r.recordShadowMap(cmd, stats);
-      r.timer().begin(cmd, "lookup");
-      r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
-      r.timer().end(cmd);
-    };
     if (!isIndirectTracer(tracer)) {
       throw InputError("unknown tracer '" + tracer + "' for " + termName(term_) + "; use " + indirectTracerList());
     }
@@ -59,7 +53,7 @@ class IndirectMethod final : public Method {
     const LineSpaceTracer* ntree = tracer == "ntree" ? &r.ntreeTracer(stats) : nullptr;
     const NTreeCandidateTracer* ntreeLs = tracer == "ntree-ls" ? &r.ntreeCandidateTracer(stats) : nullptr;
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-      recordDirect(cmd);
+      recordDirect(r, cmd, stats);
       r.timer().begin(cmd, "indirect");
       const IndirectTargets targets{r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.indirect()};
       if (bvh) pass.record(cmd, targets, params, *bvh);
@@ -73,6 +67,15 @@ class IndirectMethod final : public Method {
   }
 
  private:
+  // The camera pass, the light pass and sm's lookup: the direct light's visibility.
+  static void recordDirect(Renderer& r, const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+    r.recordGBuffer(cmd);
+    r.recordShadowMap(cmd, stats);
+    r.timer().begin(cmd, "lookup");
+    r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
+    r.timer().end(cmd);
+  }
+
   static void report(const IndirectPass& pass, FrameStats& stats, bool traversalCounted) {
     std::uint64_t shadowRays = 0;
     const TraceReport traced = pass.report(&shadowRays);
@@ -87,9 +90,7 @@ class IndirectMethod final : public Method {
   void runReference(Renderer& r, FrameStats& stats, const shared::IndirectParams& params) {
     const EmbreeTracer& embree = r.embree(stats);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-      r.recordGBuffer(cmd);
-      r.recordShadowMap(cmd, stats);
-      r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
+      recordDirect(r, cmd, stats);
       r.gbuffer().recordReadback(cmd);
     });
     const auto start = std::chrono::steady_clock::now();
@@ -99,7 +100,10 @@ class IndirectMethod final : public Method {
     for (std::uint32_t i = 0; i < positions.size(); ++i) {
       if (positions[i].w != 0.0f) points.push_back({glm::vec3(positions[i]), i, glm::vec3(normals[i]), 1u});
     }
-    if (triangles_.empty()) triangles_ = sceneTriangles(r.scene());
+    if (triangles_.empty() || trianglesVersion_ != r.sceneVersion()) {
+      triangles_ = sceneTriangles(r.scene());  // again after the dynamic meshes moved
+      trianglesVersion_ = r.sceneVersion();
+    }
     std::vector<glm::vec4> traced(points.size());
     std::uint64_t shadowRays = 0;
     stats.raysTraced = embree.traceIndirect(points, r.frameData().light, triangles_, params, traced, &shadowRays);
@@ -107,12 +111,13 @@ class IndirectMethod final : public Method {
     std::vector<glm::vec4> out(positions.size(), glm::vec4(0.0f));
     for (std::size_t k = 0; k < points.size(); ++k) out[points[k].pixel] = traced[k];
     r.indirect().upload(std::span<const glm::vec4>(out));
-    stats.addPass("indirect", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    stats.addPass("indirect", msSince(start));
   }
 
   Term term_;
   std::string tracer_;
-  std::vector<shared::SceneTriangle> triangles_;  // the reference's copy (static scenes: built once)
+  std::vector<shared::SceneTriangle> triangles_;  // the reference's copy, of the scene at trianglesVersion_
+  std::uint64_t trianglesVersion_ = 0;
 };
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Indirect rays on the GPU (shaders/indirect_trace.glsl): for every covered pixel of the G-buffer,
 // K cosine-weighted rays, giving ambient occlusion or one-bounce diffuse light per pixel in the
 // output buffer (vec4: rgb light, a occlusion). One kernel per tracer structure, each with one
-// pipeline per mode (a specialization constant). The scene's triangles (SceneTriangle) are
-// uploaded here for the hits' shading.
+// pipeline per way of reading the light's map (a specialization constant, light_texels.glsl). The
+// scene's triangles (SceneTriangle) are uploaded here for the hits' shading, read by address.
 #pragma once
 #include <cstdint>
 #include <optional>
