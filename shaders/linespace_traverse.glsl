@@ -138,13 +138,24 @@ ivec3 lsCellOf(LsNode node, vec3 p) {
 #ifdef LS_EXACT
 // Tests the triangles of leaf record `leaf` within [tMin, tMax]; a hit shortens tMax (closest
 // hit) and is kept in t and triangle (BvhTriangle.id). Returns whether it found one.
+// A triangle overlapping several leaf cells is listed in each; the last four tested by this ray
+// (lsTraverse resets them) are not tested again: a miss stays a miss as tMax only shrinks, and a
+// hit is already in t. Four scalars, not an array, so no lane indexes memory.
+uint lsTested0 = LS_SKIP, lsTested1 = LS_SKIP, lsTested2 = LS_SKIP, lsTested3 = LS_SKIP;
+
 bool lsLeafHit(uint leaf, vec3 origin, vec3 dir, float tMin, inout float tMax, bool anyHit, inout float t,
                inout uint triangle) {
   LsLeaf record = lsLeaves[leaf];
   bool found = false;
   for (uint i = record.first; i < record.first + record.count; ++i) {
+    uint index = lsLeafTriangles[i];
+    if (index == lsTested0 || index == lsTested1 || index == lsTested2 || index == lsTested3) continue;
+    lsTested3 = lsTested2;
+    lsTested2 = lsTested1;
+    lsTested1 = lsTested0;
+    lsTested0 = index;
     ++lsTriangleTests;
-    BvhTriangle tri = lsTriangles[lsLeafTriangles[i]];
+    BvhTriangle tri = lsTriangles[index];
     float hit = bvhTriangleHit(tri, origin, dir, tMin, tMax);
     if (hit < 0.0f) continue;
     t = hit;
@@ -164,6 +175,9 @@ bool lsLeafHit(uint leaf, vec3 origin, vec3 dir, float tMin, inout float tMax, b
 bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float t, out uint triangle) {
   t = -1.0f;
   triangle = BVH_NO_HIT;
+#ifdef LS_EXACT
+  lsTested0 = lsTested1 = lsTested2 = lsTested3 = LS_SKIP;
+#endif
   vec3 invDir = lsInverseDirection(dir);
   // From invDir's sign, so that a zero component (made +tiny) steps towards its far boundary.
   ivec3 stepDir = ivec3(greaterThan(invDir, vec3(0.0f))) * 2 - ivec3(1);
