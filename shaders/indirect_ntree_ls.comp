@@ -38,8 +38,7 @@ layout(push_constant) uniform Push {
 #include "bvh_traverse.glsl"
 
 bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
-  vec3 normal;
-  bool found = lsCandidateClosestHit(origin, dir, tMin, tMax, t, triangle, normal);
+  bool found = lsCandidateClosestHit(origin, dir, tMin, tMax, t, triangle);
   if (lsPush.dynamicRoot != BVH_NO_TREE) {
     RayHit moving = bvhTraverse(lsPush.dynamicRoot, origin, dir, tMin, found ? t : tMax, false);
     if (moving.triangle != BVH_NO_HIT) {

@@ -106,15 +106,6 @@ uint lsClassifyAs(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, fl
   return wholeLine || !last ? LS_DESCEND : LS_OCCLUDED;
 }
 
-uint lsClassify(uint index, vec3 origin, vec3 dir, vec3 invDir, float tMin, float tMax, out float tIn,
-                out float tOut) {
-#ifdef LS_EXACT
-  return lsClassifyAs(index, origin, dir, invDir, tMin, tMax, true, tIn, tOut);
-#else
-  return lsClassifyAs(index, origin, dir, invDir, tMin, tMax, false, tIn, tOut);
-#endif
-}
-
 // Steps the DDA past `cell` of `node`'s grid: across the boundary the ray reaches first (at tNext);
 // the next cell, or ivec3(-1) when the ray leaves the grid or its segment (exit tOut) there.
 ivec3 lsNextCell(LsNode node, ivec3 cell, vec3 origin, vec3 invDir, ivec3 stepDir, float tOut, out float tNext) {
@@ -168,11 +159,15 @@ bool lsLeafHit(uint leaf, vec3 origin, vec3 dir, float tMin, inout float tMax, b
 }
 #endif
 
-// The traversal behind lsOccluded and lsClosestHit over the segment origin + t dir, t in
-// [tMin, tMax]; anyHit is a constant at every call site. Returns whether it found a blocker: in
-// exact mode a triangle (t its distance, the nearest one unless anyHit; triangle its
-// BvhTriangle.id), in binary mode a set shaft bit (t = -1, triangle = BVH_NO_HIT).
-bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float t, out uint triangle) {
+// The traversal behind lsOccluded, lsClosestHit and lsCandidateClosestHit over the segment
+// origin + t dir, t in [tMin, tMax]; anyHit and candidates are constants at every call site.
+// Returns whether it found a blocker: in exact mode a triangle (t its distance, the nearest one
+// unless anyHit; triangle its BvhTriangle.id), in binary mode a set shaft bit (t = -1, triangle =
+// BVH_NO_HIT). With candidates (LS_CANDIDATES), a node that has a candidate line space is
+// answered by csHit, like a leaf (front to back: the first node with a hit holds the nearest), and
+// one without it or children is passed over.
+bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, bool candidates, out float t,
+                out uint triangle) {
   t = -1.0f;
   triangle = BVH_NO_HIT;
 #ifdef LS_EXACT
@@ -187,8 +182,17 @@ bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out 
   ivec3 frameCell[LS_MAX_DEPTH];
   float frameOut[LS_MAX_DEPTH];
   float tIn, tOut;
-  uint root = lsClassify(0u, origin, dir, invDir, tMin, tMax, tIn, tOut);
+#ifdef LS_EXACT
+  const bool wholeLine = true;
+#else
+  bool wholeLine = candidates;
+#endif
+  uint root = lsClassifyAs(0u, origin, dir, invDir, tMin, tMax, wholeLine, tIn, tOut);
   if (root != LS_DESCEND) return root == LS_OCCLUDED;
+#ifdef LS_CANDIDATES
+  vec3 normal;  // csHit's, not used: hits are shaded from their triangle
+  if (candidates && lsCandidateSpace[0] != CS_NONE) return csHit(lsCandidateSpace[0], origin, dir, tMin, tMax, t, triangle, normal);
+#endif
   int level = 0;
   frameNode[0] = 0u;
   frameCell[0] = lsCellOf(lsNodes[0], origin + tIn * dir);
@@ -214,14 +218,23 @@ bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out 
       continue;
     }
 #endif
-    uint result = lsClassify(child, origin, dir, invDir, tMin, tMax, tIn, tOut);
+    uint result = lsClassifyAs(child, origin, dir, invDir, tMin, tMax, wholeLine, tIn, tOut);
     if (result == LS_OCCLUDED) return true;
-    if (result == LS_DESCEND) {
-      ++level;
-      frameNode[level] = child;
-      frameCell[level] = lsCellOf(lsNodes[child], origin + tIn * dir);
-      frameOut[level] = tOut;
+    if (result != LS_DESCEND) continue;
+#ifdef LS_CANDIDATES
+    if (candidates) {
+      uint space = lsCandidateSpace[child];
+      if (space != CS_NONE) {
+        if (csHit(space, origin, dir, tMin, tMax, t, triangle, normal)) return true;
+        continue;
+      }
+      if (lsNodes[child].children == LS_SKIP) continue;
     }
+#endif
+    ++level;
+    frameNode[level] = child;
+    frameCell[level] = lsCellOf(lsNodes[child], origin + tIn * dir);
+    frameOut[level] = tOut;
   }
   return triangle != BVH_NO_HIT;
 }
@@ -231,7 +244,7 @@ bool lsTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out 
 // a set shaft bit at the second-to-last level, blockerT = -1).
 bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax, out float blockerT) {
   uint triangle;
-  return lsTraverse(origin, dir, tMin, tMax, true, blockerT, triangle);
+  return lsTraverse(origin, dir, tMin, tMax, true, false, blockerT, triangle);
 }
 
 bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
@@ -243,60 +256,16 @@ bool lsOccluded(vec3 origin, vec3 dir, float tMin, float tMax) {
 // The nearest triangle the segment origin + t dir, t in [tMin, tMax], hits: its distance t and
 // its BvhTriangle.id (scene-order index); false (t < 0, BVH_NO_HIT) on a miss. Exact mode only.
 bool lsClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
-  return lsTraverse(origin, dir, tMin, tMax, false, t, triangle);
+  return lsTraverse(origin, dir, tMin, tMax, false, false, t, triangle);
 }
 #endif
 
 #ifdef LS_CANDIDATES
 // The nearest hit of the segment origin + t dir, t in [tMin, tMax], as the candidate line spaces
-// answer it (approximate): t, the candidate's scene-order triangle and csHit's shading normal;
-// false (t < 0, BVH_NO_HIT) on a miss. A node without a line space and without children (which
-// the placement never leaves on a ray's way) is skipped.
-bool lsCandidateClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle,
-                           out vec3 normal) {
-  t = -1.0f;
-  triangle = BVH_NO_HIT;
-  normal = vec3(0.0f, 0.0f, 1.0f);
-  vec3 invDir = lsInverseDirection(dir);
-  ivec3 stepDir = ivec3(greaterThan(invDir, vec3(0.0f))) * 2 - ivec3(1);
-  int n = int(lsPush.n);
-  uint frameNode[LS_MAX_DEPTH];
-  ivec3 frameCell[LS_MAX_DEPTH];
-  float frameOut[LS_MAX_DEPTH];
-  float tIn, tOut;
-  if (lsClassifyAs(0u, origin, dir, invDir, tMin, tMax, true, tIn, tOut) != LS_DESCEND) return false;
-  if (lsCandidateSpace[0] != CS_NONE) return csHit(lsCandidateSpace[0], origin, dir, tMin, tMax, t, triangle, normal);
-  int level = 0;
-  frameNode[0] = 0u;
-  frameCell[0] = lsCellOf(lsNodes[0], origin + tIn * dir);
-  frameOut[0] = tOut;
-  while (level >= 0) {
-    ivec3 cell = frameCell[level];
-    if (cell.x < 0) {
-      --level;
-      continue;
-    }
-    LsNode node = lsNodes[frameNode[level]];
-    float tNext;
-    frameCell[level] = lsNextCell(node, cell, origin, invDir, stepDir, frameOut[level], tNext);
-
-    uint child = lsTree[node.children + lsCellIndex(uint(cell.x), uint(cell.y), uint(cell.z), uint(n))];
-    if (child == LS_SKIP) continue;
-    if (lsClassifyAs(child, origin, dir, invDir, tMin, tMax, true, tIn, tOut) != LS_DESCEND) continue;
-    uint space = lsCandidateSpace[child];
-    if (space != CS_NONE) {
-      if (csHit(space, origin, dir, tMin, tMax, t, triangle, normal)) return true;
-      continue;
-    }
-    if (lsNodes[child].children == LS_SKIP) continue;
-    ++level;
-    frameNode[level] = child;
-    frameCell[level] = lsCellOf(lsNodes[child], origin + tIn * dir);
-    frameOut[level] = tOut;
-  }
-  t = -1.0f;
-  triangle = BVH_NO_HIT;
-  return false;
+// answer it (approximate): t and the candidate's scene-order triangle; false (t < 0, BVH_NO_HIT)
+// on a miss.
+bool lsCandidateClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
+  return lsTraverse(origin, dir, tMin, tMax, false, true, t, triangle);
 }
 #endif
 
