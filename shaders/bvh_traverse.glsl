@@ -80,8 +80,17 @@ bool bvhLeaf(uint first, uint count, vec3 origin, vec3 dir, float tMin, inout fl
 // call site, so the compiler specialises the loop. Returns the hit (t < 0 and BVH_NO_HIT on a
 // miss). The two child slots are handled without loops or indexed locals, which GPUs would
 // otherwise spill to memory.
-RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
+// With BVH_LINE_SPACES (bvh_ls_traverse.glsl included first) and lineSpaces, an inner node that
+// has a candidate line space is answered by it (bvhLsAsk) like a leaf instead of being descended.
+RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, bool lineSpaces) {
   RayHit hit = RayHit(-1.0f, BVH_NO_HIT, 0u, 0u);
+#ifdef BVH_LINE_SPACES
+  if (lineSpaces && csNodeMap[root] != CS_NONE) {  // D = 0: the root's line space answers alone
+    ++bvhNodeVisits;
+    bvhLsAsk(csNodeMap[root], origin, dir, tMin, tMax, hit);
+    return hit;
+  }
+#endif
   vec3 invDir = bvhInverseDirection(dir);
   uint stack[BVH_STACK_SIZE];
   uint depth = 0u;
@@ -102,6 +111,18 @@ RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, boo
       go1 = false;
     }
     go1 = go1 && n.child[1].index != 0u;  // inner index 0 (the static root) marks an empty slot
+#ifdef BVH_LINE_SPACES
+    if (lineSpaces) {  // inner children with a line space are answered now, the nearer first
+      uint ls0 = go0 ? bvhLsChildSpace(n.child[0]) : CS_NONE;
+      uint ls1 = go1 ? bvhLsChildSpace(n.child[1]) : CS_NONE;
+      bool nearer0 = enter0 <= enter1;
+      uint lsA = nearer0 ? ls0 : ls1, lsB = nearer0 ? ls1 : ls0;
+      if (lsA != CS_NONE && bvhLsAsk(lsA, origin, dir, tMin, tMax, hit) && anyHit) return hit;
+      if (lsB != CS_NONE && bvhLsAsk(lsB, origin, dir, tMin, tMax, hit) && anyHit) return hit;
+      go0 = go0 && ls0 == CS_NONE;
+      go1 = go1 && ls1 == CS_NONE;
+    }
+#endif
     if (!anyHit) {
       // A leaf hit may have shortened the ray to before an inner child's entry.
       float limit = tMax * kBvhExitScale;
@@ -120,6 +141,10 @@ RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, boo
     }
   }
   return hit;
+}
+
+RayHit bvhTraverse(uint root, vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
+  return bvhTraverse(root, origin, dir, tMin, tMax, anyHit, false);
 }
 
 // The first hit found within [tMin, tMax]: the static tree first (most rays end there), then the

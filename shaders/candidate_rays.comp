@@ -31,7 +31,12 @@ void main() {
       if (csHit(push.box, q.origin, q.direction, q.tMin, q.tMax, t, triangle, normal))
         hit = RayHit(t, triangle, 0u, CS_HIT_FROM_LINE_SPACE);
     } else {
-      hit = bvhLsClosestHit(q.origin, q.direction, q.tMin, q.tMax, push.mode == CS_MODE_BVH_LS, normal);
+      hit = bvhLsClosestHit(q.origin, q.direction, q.tMin, q.tMax, push.mode == CS_MODE_BVH_LS);
+      vec3 face;  // the shading normal at the hit, interpolated (extrapolated on a candidate's plane) as csHit's
+      if (hit.triangle != BVH_NO_HIT &&
+          !csTriangleNormals(csSceneTriangles[hit.triangle], q.origin + hit.t * q.direction, normal, face)) {
+        normal = face;
+      }
     }
     if (hit.triangle != BVH_NO_HIT) {
       if (dot(normal, q.direction) > 0.0f) normal = -normal;

@@ -20,20 +20,14 @@ layout(push_constant) uniform Push {
 #include "bvh_ls_traverse.glsl"
 
 bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {
-  vec3 normal;
-  RayHit hit = bvhLsClosestHit(origin, dir, tMin, tMax, true, normal);
+  RayHit hit = bvhLsClosestHit(origin, dir, tMin, tMax, true);
   t = hit.t;
   triangle = hit.triangle;
   return hit.triangle != BVH_NO_HIT;
 }
-// ao rays ask the line spaces too (closest hit within the radius); shadow rays are exact.
+// ao rays ask the line spaces too (any hit within the radius); shadow rays are exact.
 bool indirectOccluded(vec3 origin, vec3 dir, float tMin, float tMax, bool aoRay) {
-  if (aoRay) {
-    float t;
-    uint triangle;
-    return indirectClosest(origin, dir, tMin, tMax, t, triangle);
-  }
-  return bvhAnyHitRecord(origin, dir, tMin, tMax, BVH_NO_TREE).triangle != BVH_NO_HIT;
+  return bvhTraverse(0u, origin, dir, tMin, tMax, true, aoRay).triangle != BVH_NO_HIT;
 }
 uint indirectVisits() { return bvhNodeVisits; }
 uint indirectTests() { return bvhTriangleTests + csCandidateTests; }
