@@ -66,12 +66,6 @@ std::string shortName(const std::string& option) {
 }
 
 
-// The shortest text that reads back as the same float: 0.1, not 0.100000001.
-std::string shortNumber(float value) {
-  char text[32];
-  const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
-  return ec == std::errc() ? std::string(text, end) : std::to_string(value);
-}
 
 // A float option as the user wrote it (0.05, not 0.05000000074505806) for JSON and CSV.
 double tidy(float value) {
@@ -180,6 +174,12 @@ std::vector<std::string> termReferences(const std::vector<SweepConfig>& configs)
 }
 
 }  // namespace
+
+std::string shortNumber(float value) {
+  char text[32];
+  const auto [end, ec] = std::to_chars(text, text + sizeof(text), value);
+  return ec == std::errc() ? std::string(text, end) : std::to_string(value);
+}
 
 std::string paramText(const std::string& option, const std::string& value) {
   const std::string name = shortName(option);
@@ -373,9 +373,14 @@ SweepResult runSweep(const Sweep& sweep) {
       std::optional<FrameSequence> frames;  // the frames it renders (a sequence with --denoise temporal)
     };
     std::vector<Job> jobs;
-    jobs.push_back({nullptr, "ref", g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
-    for (const std::string& reference : termReferences(g.configs)) {
-      jobs.push_back({nullptr, reference, g.reference, {}, describeRun(g.reference, refSetup, context), nullptr, {}, {}});
+    std::vector<std::string> referenceMethods{"ref"};  // and ao's and indirect's, for configurations of theirs
+    for (const std::string& reference : termReferences(g.configs)) referenceMethods.push_back(reference);
+    for (const std::string& reference : referenceMethods) {
+      Job& job = jobs.emplace_back();
+      job.config = nullptr;
+      job.method = reference;
+      job.runConfig = g.reference;
+      job.run = describeRun(g.reference, refSetup, context);
     }
     const std::size_t references = jobs.size();
     for (const SweepConfig& config : g.configs) {
@@ -504,111 +509,6 @@ SweepResult runSweep(const Sweep& sweep) {
     throw std::runtime_error(std::to_string(messages.size()) + " Vulkan validation message(s) during the sweep, see above");
   }
   return result;
-}
-
-nlohmann::json mergeBench(const std::vector<std::string>& dirs, const std::string& outDir) {
-  std::optional<nlohmann::json> merged;
-  std::vector<bool> seen;
-  std::map<std::pair<long, long>, nlohmann::json> rows;  // by (group, configuration; -1 = reference)
-  for (const std::string& dir : dirs) {
-    const std::string path = dir + "/bench.json";
-    std::ifstream in(path);
-    if (!in) throw InputError("--merge: no " + path + "; name the output folders of the shards");
-    nlohmann::json bench = nlohmann::json::parse(in, nullptr, false);
-    if (bench.is_discarded() || !bench.contains("shard") || !bench.contains("rows")) {
-      throw InputError("--merge: " + path + " is not the output of bench --shard");
-    }
-    const nlohmann::json shard = bench["shard"];
-    const auto count = shard.value("count", 0u), index = shard.value("index", 0u);
-    if (!merged) {
-      merged = bench;
-      seen.assign(count, false);
-    }
-    const nlohmann::json& first = (*merged)["shard"];
-    if (count != first.value("count", 0u) || shard.value("configurations", 0u) != first.value("configurations", 0u) ||
-        bench["description"] != (*merged)["description"] || index < 1 || index > count) {
-      throw InputError("--merge: " + path + " is shard " + std::to_string(index) + "/" + std::to_string(count) +
-                       " of another sweep than " + dirs.front());
-    }
-    if (seen[index - 1]) throw InputError("--merge: shard " + std::to_string(index) + " is named twice");
-    seen[index - 1] = true;
-    for (const nlohmann::json& r : bench["rows"]) rows.emplace(std::make_pair(r["group"].get<long>(), r["config"].get<long>()), r);
-  }
-  if (!merged) throw InputError("--merge names no folder");
-  const auto missing = std::find(seen.begin(), seen.end(), false);
-  if (missing != seen.end()) {
-    throw InputError("--merge: shard " + std::to_string(missing - seen.begin() + 1) + "/" + std::to_string(seen.size()) +
-                     " is missing");
-  }
-  for (const std::string& dir : dirs) {  // all shards checked: only now write
-    if (!fs::exists(dir + "/frames")) continue;
-    fs::create_directories(outDir + "/frames");
-    fs::copy(dir + "/frames", outDir + "/frames", fs::copy_options::recursive | fs::copy_options::skip_existing);
-  }
-  nlohmann::json& out = *merged;
-  out.erase("shard");
-  out["rows"] = nlohmann::json::array();
-  for (auto& [key, row] : rows) out["rows"].push_back(std::move(row));
-  return out;
-}
-
-void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
-  static const char* const columns[] = {
-      "scene", "triangles", "width", "height", "light_size", "spp", "reference_spp", "method", "label", "params_label",
-      "tracer", "shadow_map_res", "pcf_kernel", "pip_delta", "msm_maps", "time_ms", "time_min_ms", "time_max_ms", "runs",
-      "warmup", "speedup_vs_ref", "pip_fraction", "rays_traced", "node_visits_per_ray", "wrong_pixel_fraction", "rmse",
-      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "trace_bytes_per_ray", "temporal_change", "ref_temporal_change", "passes", "machine",
-      "cpu_threads", "device", "driver"};
-  auto field = [](const nlohmann::json& v) -> std::string {
-    if (v.is_null()) return "";
-    std::string text = v.is_string() ? v.get<std::string>() : v.dump();
-    if (text.find_first_of(",\"\n") == std::string::npos) return text;
-    std::string quoted = "\"";
-    for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return quoted + "\"";
-  };
-  std::ofstream out(path);
-  for (std::size_t i = 0; i < std::size(columns); ++i) out << (i ? "," : "") << columns[i];
-  out << "\n";
-  for (const nlohmann::json& r : rows) {
-    for (std::size_t i = 0; i < std::size(columns); ++i) {
-      const std::string c = columns[i];
-      nlohmann::json v;
-      if (c == "wrong_pixel_fraction" || c == "rmse" || c == "mae") v = r["error"].is_null() ? nullptr : r["error"][c];
-      else if (c == "max_error") v = r["error"].is_null() ? nullptr : r["error"]["max"];
-      else if (c == "passes") {
-        std::string passes;
-        for (const auto& [pass, ms] : r["passes"].items()) passes += (passes.empty() ? "" : ";") + pass + "=" + ms.dump();
-        v = passes;
-      } else v = r[c];
-      out << (i ? "," : "") << field(v);
-    }
-    out << "\n";
-  }
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-}
-
-void printSweepSummary(const nlohmann::json& rows, std::ostream& out) {
-  out << std::left << std::setw(22) << "scene" << std::setw(7) << "light" << std::setw(30) << "configuration" << std::right
-      << std::setw(10) << "ms" << std::setw(16) << "min-max" << std::setw(8) << "pip %" << std::setw(10) << "wrong %"
-      << std::setw(10) << "rmse" << std::setw(12) << "temporal" << "\n";
-  for (const nlohmann::json& r : rows) {
-    std::ostringstream spread, pip, wrong, rmse, temporal;
-    spread << std::fixed << std::setprecision(1) << r["time_min_ms"].get<double>() << "-" << r["time_max_ms"].get<double>();
-    if (r["pip_fraction"].is_null()) pip << "-";
-    else pip << std::fixed << std::setprecision(2) << 100.0 * r["pip_fraction"].get<double>();
-    if (r["error"].is_null()) wrong << "-", rmse << "-";
-    else {
-      wrong << std::fixed << std::setprecision(3) << 100.0 * r["error"]["wrong_pixel_fraction"].get<double>();
-      rmse << std::fixed << std::setprecision(4) << r["error"]["rmse"].get<double>();
-    }
-    if (!r.contains("temporal_change") || r["temporal_change"].is_null()) temporal << "-";
-    else temporal << std::setprecision(3) << std::scientific << r["temporal_change"].get<double>();
-    out << std::left << std::setw(22) << r["scene"].get<std::string>() << std::setw(7) << shortNumber(r["light_size"].get<float>())
-        << std::setw(30) << r["label"].get<std::string>() << std::right << std::fixed << std::setprecision(1) << std::setw(10)
-        << r["time_ms"].get<double>() << std::setw(16) << spread.str() << std::setw(8) << pip.str() << std::setw(10)
-        << wrong.str() << std::setw(10) << rmse.str() << std::setw(12) << temporal.str() << "\n";
-  }
 }
 
 }  // namespace penumbra

@@ -34,6 +34,8 @@ const std::vector<AxisDef>& sweepAxes();
 // Run options as the command line spells them, e.g. {"--shadow-map-res", "1024"}.
 using RunOptions = std::vector<std::pair<std::string, std::string>>;
 
+// The shortest text that reads back as the same float: 0.1, not 0.100000001.
+std::string shortNumber(float value);
 // A parameter as chart labels show it ("res=1024"; the bare value for axes without a short name).
 std::string paramText(const std::string& option, const std::string& value);
 // The value `params` give `option`, or nullptr.
