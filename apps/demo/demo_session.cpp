@@ -39,7 +39,7 @@ DemoSession::DemoSession(const gpu::Context& context, RunSetup setup, std::strin
       light_(setup_.light),
       lightSizeFraction_(setup_.lightSizeFraction),
       animated_(isAnimated(setup_.scene)) {
-  makeMethod(method_);  // unknown names fail before the GPU work
+  term_ = methodTerm(method_);  // unknown names fail before the GPU work
   renderer_ = std::make_unique<Renderer>(context_, setup_.scene, setup_.settings);
 }
 
@@ -58,7 +58,7 @@ void DemoSession::setSettings(const RenderSettings& settings) {
 }
 
 void DemoSession::setMethod(const std::string& method) {
-  makeMethod(method);
+  term_ = methodTerm(method);  // InputError for unknown names, before anything changes
   method_ = method;
 }
 

@@ -13,6 +13,7 @@
 #include "apps/run_config.h"
 #include "core/view.h"
 #include "gpu/context.h"
+#include "hybrid/method.h"
 #include "hybrid/renderer.h"
 
 namespace penumbra::demo {
@@ -30,6 +31,7 @@ class DemoSession {
   // A new Renderer (its structures are rebuilt on use); when refused, the previous one and rethrows.
   void setSettings(const RenderSettings& settings);
   const std::string& method() const { return method_; }
+  Term term() const { return term_; }  // the method's (methodTerm), kept with it
   void setMethod(const std::string& method);  // InputError for unknown names
 
   CameraController& cameraController() { return camera_; }
@@ -77,6 +79,7 @@ class DemoSession {
   RunSetup setup_;
   Bounds bounds_;
   std::string method_;
+  Term term_ = Term::Shadow;
   bool canonicalViews_;
   CameraController camera_;
   Light light_;

@@ -61,7 +61,7 @@ void controls(DemoSession& session, UiState& state) {
   RenderSettings settings = session.settings();
   bool settingsChanged = false;
   // Shadow methods pick the shadow tracer; ao and indirect theirs (bvh, bvh-ls, ... and embree).
-  const bool indirect = methodTerm(session.method()) != Term::Shadow;
+  const bool indirect = session.term() != Term::Shadow;
   std::vector<const char*> tracers(kTracers.begin(), kTracers.end());
   if (indirect) {
     tracers.clear();
