@@ -209,6 +209,10 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
   app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
       ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--reuse-light-passes", c.reuseLightPasses,
+                 "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
+                 "still light's map (on), or render them every frame (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
   app.add_option("--denoise", c.denoise,
                  "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
       ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
@@ -328,6 +332,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
 
   s.settings.spp = c.spp;
   s.settings.denoise.mode = parseDenoiseMode(c.denoise);
+  s.settings.reuseLightPasses = c.reuseLightPasses == "on";
   // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
   s.settings.referenceSpp =
       c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
@@ -404,6 +409,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"warmup_frames", c.warmup},
           {"tracer", c.tracer},
           {"denoise", c.denoise},
+          {"reuse_light_passes", c.reuseLightPasses},
           {"denoise_frames", c.denoiseFrames},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
                    {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}, {"light_fit", c.lightFit}}},

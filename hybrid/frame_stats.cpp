@@ -43,6 +43,7 @@ nlohmann::json FrameStats::toJson() const {
           {"term", term.value_or("shadow")},
           {"denoise", orNull(denoise)},
           {"time_ms", times},
+          {"reused_passes", reusedPasses},
           {"pip_fraction", orNull(pipFraction)},
           {"rays_traced", orNull(raysTraced)},
           {"pip_pixels", orNull(pipPixels)},

@@ -36,6 +36,7 @@ struct FrameStats {
   };
   std::optional<Spread> totalSpreadMs;  // over repeated frames, when repeated
   std::vector<std::pair<std::string, double>> passMs;  // per pass: GPU timestamps, CPU wall time
+  std::vector<std::string> reusedPasses;  // passes not run: their last output still held (RenderSettings::reuseLightPasses)
   std::map<std::string, std::uint64_t> memoryBytes;    // per structure
   std::map<std::string, std::uint64_t> counts;         // what a pass counted (bitmask: influence regions, fill)
   std::map<std::string, double> setupMs;               // one-time work (e.g. acceleration build)

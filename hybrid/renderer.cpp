@@ -280,12 +280,20 @@ bool Renderer::recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& st
   push.appendList = makeList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
   if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
     pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
+    pyramidKey_.reset();
   }
   if (shared::isAreaLight(frameData_.light)) {  // the penumbra mask reads the pyramid; hard shadows do not
     stats.memoryBytes["depth_pyramid"] = pyramid_->tiles().size();
-    timer_.begin(cmd, "depth_pyramid");
-    pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
-    timer_.end(cmd);
+    // Its inputs, the map and the thin mask, follow from the key (the thin pass keeps its own).
+    const LightPassesKey key = lightPassesKey();
+    if (settings_.reuseLightPasses && pyramidKey_ == key) {
+      stats.reusedPasses.push_back("depth_pyramid");
+    } else {
+      timer_.begin(cmd, "depth_pyramid");
+      pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
+      timer_.end(cmd);
+      pyramidKey_ = key;
+    }
   }
   const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_};
   timer_.begin(cmd, "classify");
@@ -369,15 +377,28 @@ void Renderer::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
   timer_.end(cmd);
 }
 
+bool Renderer::LightPassesKey::operator==(const LightPassesKey& other) const {
+  return geometryVersion == other.geometryVersion && std::memcmp(&shadow, &other.shadow, sizeof(shadow)) == 0;
+}
+
+Renderer::LightPassesKey Renderer::lightPassesKey() const { return {frameData_.shadow, geometry_.version()}; }
+
 void Renderer::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
   // Made on first use and again only when the light needs a different number of faces.
   if (!shadowMap_ || shadowMap_->faceCount() != frameData_.shadow.faceCount) {
     shadowMap_ = std::make_unique<raster::ShadowMapPass>(context_, settings_.shadowMap, frameData_.shadow.faceCount);
+    shadowMapKey_.reset();
   }
   stats.memoryBytes["shadow_map"] = shadowMap_->depth().bytes();
+  const LightPassesKey key = lightPassesKey();
+  if (settings_.reuseLightPasses && shadowMapKey_ == key) {
+    stats.reusedPasses.push_back("shadow_map");
+    return;
+  }
   timer_.begin(cmd, "shadow_map");
   shadowMap_->record(cmd, geometry_, frameData_.shadow);
   timer_.end(cmd);
+  shadowMapKey_ = key;
 }
 
 Frame Renderer::render(const std::string& methodName, const Camera& camera, const Light& light) {

@@ -55,6 +55,10 @@ struct RenderSettings {
   // finer texels halve PIP but let srt miss more along grazing edges, bench/results/passes.md).
   bool fitLightToView = false;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
+  // A frame whose light map would be the last one's (same map placement, geometry unmoved) keeps
+  // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
+  // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.
+  bool reuseLightPasses = false;
   DenoiseSettings denoise;           // srt/frt with an area light: the shadow denoiser (hybrid/denoise_pass.h)
   // Every pixel uses the same light samples, the pattern method bitmask looks up (--shared-samples):
   // the reference and the tracers then see bitmask's samples.
@@ -182,6 +186,14 @@ class Renderer {
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::map<std::string, std::unique_ptr<Method>> methods_;  // one per name, kept: they may own GPU objects
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
+  // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
+  struct LightPassesKey {
+    shared::ShadowMapInfo shadow;
+    std::uint64_t geometryVersion;
+    bool operator==(const LightPassesKey& other) const;
+  };
+  LightPassesKey lightPassesKey() const;
+  std::optional<LightPassesKey> shadowMapKey_, pyramidKey_;
   std::unique_ptr<raster::ThinTrianglePass> thin_;
   std::unique_ptr<raster::DepthPyramidPass> pyramid_;
   std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5

@@ -9,6 +9,7 @@
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
 #include "core/metrics.h"
+#include "core/view.h"
 #include "render_fixture.h"
 
 namespace penumbra {
@@ -124,6 +125,38 @@ TEST_P(MovingFrames, SrtFollowsTheMovingDroneAndMatchesTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Tracers, MovingFrames, ::testing::Values("embree", "bvh", "rq"));
+
+// RenderSettings::reuseLightPasses: while the light and the geometry stay still, a frame keeps the
+// last shadow map and edge pyramid and is the frame a renderer that renders them again makes; a
+// frame after the light or the geometry moved renders them again (and still agrees).
+TEST(Animation, StillLightPassesAreKeptUntilTheLightOrTheGeometryMoves) {
+  RenderSettings settings = test::smallSettings(128, 1024);
+  settings.spp = 4;
+  settings.tracer = "bvh";
+  SceneRun again("builtin:courtyard-moving:1", settings);
+  settings.reuseLightPasses = true;
+  SceneRun keep("builtin:courtyard-moving:1", settings);
+  for (SceneRun* run : {&again, &keep}) applyLightSize(run->light, 0.1f, run->scene.bounds());
+  const std::vector<std::string> kept{"shadow_map", "depth_pyramid"};
+  auto expectSame = [&](const std::vector<std::string>& reused, const char* when) {
+    const Frame a = again.render("srt"), k = keep.render("srt");
+    EXPECT_TRUE(a.stats.reusedPasses.empty()) << when;
+    EXPECT_EQ(k.stats.reusedPasses, reused) << when;
+    EXPECT_EQ(k.visibility, a.visibility) << when;
+    EXPECT_EQ(k.pip, a.pip) << when;
+  };
+  expectSame({}, "first frame");
+  expectSame(kept, "still light");
+  for (SceneRun* run : {&again, &keep}) run->light.position += glm::vec3(0.5f, 0.0f, 0.0f);
+  expectSame({}, "after the light moved");
+  expectSame(kept, "still again");
+  for (SceneRun* run : {&again, &keep}) {
+    poseScene(run->scene, 2.3);
+    run->renderer->sceneMoved();
+  }
+  expectSame({}, "after the geometry moved");
+  test::expectValidationSilent();
+}
 
 }  // namespace
 }  // namespace penumbra
