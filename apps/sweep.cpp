@@ -370,6 +370,7 @@ SweepResult runSweep(const Sweep& sweep) {
       std::unique_ptr<Renderer> renderer;
       std::vector<Frame> runs;
       std::optional<double> temporalChange;  // with sweep.temporalFrames
+      std::optional<double> movingRmse;      // and the mean rmse against the reference's frame over the moving frames
       std::optional<FrameSequence> frames;  // the frames it renders (a sequence with --denoise temporal)
     };
     std::vector<Job> jobs;
@@ -403,20 +404,31 @@ SweepResult runSweep(const Sweep& sweep) {
       for (std::uint32_t i = 0; i < job.frames->warmup(); ++i) render(job, s.light);
     };
     auto measure = [&](Job& job) { job.runs.push_back(render(job, (job.config ? job.setup : refSetup).light)); };
-    // The mean change between consecutive frames under the slowly circling light (untimed frames).
+    // The mean change between consecutive frames under the slowly circling light (untimed frames),
+    // and, for shadow terms, the mean rmse over the frames after the light began to move against
+    // the reference's same frame (the reference job runs first): a history that lags shows there.
+    std::vector<Frame> movingReference;
     auto temporal = [&](Job& job) {
       if (sweep.temporalFrames < 2) return;
       const RunSetup& s = job.config ? job.setup : refSetup;
       const Bounds bounds = refSetup.scene.bounds();
+      const bool reference = !job.config && job.method == "ref";
+      const bool judged = job.config && methodTerm(job.method) == Term::Shadow && movingReference.size() == sweep.temporalFrames;
       std::optional<Frame> previous;
-      double sum = 0.0;
+      double sum = 0.0, rmse = 0.0;
       for (std::uint32_t i = 0; i < sweep.temporalFrames; ++i) {
         const Light light = orbitLight(s.light, bounds, sweep.temporalStepDeg * float(i));
         Frame frame = render(job, light);
         if (previous) sum += temporalChange(previous->visibility, frame.visibility, previous->covered, frame.covered);
+        if (judged && i > 0) {
+          const Frame& ref = movingReference[i];
+          rmse += compareVisibility(frame.visibility, ref.visibility, ref.covered, kWrongThresholdSoft).rmse;
+        }
+        if (reference) movingReference.push_back(frame);
         previous = std::move(frame);
       }
       job.temporalChange = sum / double(sweep.temporalFrames - 1);
+      if (judged) job.movingRmse = rmse / double(sweep.temporalFrames - 1);
     };
     if (sweep.interleave) {
       // Round-robin: load on a shared machine falls on every configuration alike.
@@ -488,6 +500,7 @@ SweepResult runSweep(const Sweep& sweep) {
       nlohmann::json r = row(frame, run, &config, reference.stats.totalMs);
       r["temporal_change"] = orNull(jobs[j].temporalChange);
       r["ref_temporal_change"] = refRow["ref_temporal_change"];
+      r["moving_rmse"] = orNull(jobs[j].movingRmse);
       // Images of each method's first configuration: the page shows them beside the reference.
       if (picture) {
         writeFrame(imagesDir, frame, run);

@@ -67,7 +67,9 @@ struct Sweep {
   bool interleave = false;
   // Temporal stability: after its measured frames, each configuration (and the reference) renders
   // this many more frames with the light circling by temporalStepDeg per frame; rows get the mean
-  // frame-to-frame change of the visibility (temporal_change) and the reference's (ref_temporal_change).
+  // frame-to-frame change of the visibility (temporal_change) and the reference's (ref_temporal_change),
+  // and shadow terms the mean rmse over the frames after the light began to move against the
+  // reference's same frame (moving_rmse).
   std::uint32_t temporalFrames = 0;
   float temporalStepDeg = 0.25f;
   // Scale-out: this run measures configurations shardIndex, shardIndex + shardCount, ... of the

@@ -65,7 +65,7 @@ void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
       "scene", "triangles", "width", "height", "light_size", "spp", "reference_spp", "method", "label", "params_label",
       "tracer", "shadow_map_res", "pcf_kernel", "pip_delta", "msm_maps", "time_ms", "time_min_ms", "time_max_ms", "runs",
       "warmup", "speedup_vs_ref", "pip_fraction", "rays_traced", "node_visits_per_ray", "wrong_pixel_fraction", "rmse",
-      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "trace_bytes_per_ray", "temporal_change", "ref_temporal_change", "passes", "machine",
+      "mae", "max_error", "flip_mean", "pip_miss_fraction", "penumbra_miss_fraction", "trace_bytes_simulated", "trace_bytes_per_ray", "temporal_change", "ref_temporal_change", "moving_rmse", "passes", "machine",
       "cpu_threads", "device", "driver"};
   auto field = [](const nlohmann::json& v) -> std::string {
     if (v.is_null()) return "";
@@ -88,7 +88,7 @@ void writeBenchCsv(const std::string& path, const nlohmann::json& rows) {
         std::string passes;
         for (const auto& [pass, ms] : r["passes"].items()) passes += (passes.empty() ? "" : ";") + pass + "=" + ms.dump();
         v = passes;
-      } else v = r[c];
+      } else v = r.value(c, nlohmann::json());  // a row without the column (older rows, references): empty
       out << (i ? "," : "") << field(v);
     }
     out << "\n";

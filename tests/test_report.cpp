@@ -194,6 +194,41 @@ TEST_F(Report, BenchSamplesPerPixelOnlyMultiplyAreaLightRunsAndLightSizesGetThei
   expectImagesExist(out / "report.html");
 }
 
+// --temporal-frames: every row gets the frame-to-frame change under the circling light; a method's
+// rows also the mean rmse of its moving frames against the reference's same frames (moving_rmse,
+// empty in the reference's row), in bench.json and bench.csv.
+TEST_F(Report, BenchTemporalFramesJudgeTheMovingFramesAgainstTheReference) {
+  const fs::path out = dir_ / "bench";
+  const Result r = run("bench --scenes builtin:courtyard --methods srt,frt --light-sizes 0.1 --spp 1,16 --res 48x48 "
+                       "--shadow-map-res 256 --warmup 0 --repeat 1 --temporal-frames 3 --no-images --no-report --out " +
+                       out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json bench = nlohmann::json::parse(slurp(out / "bench.json"));
+  ASSERT_EQ(bench["rows"].size(), 5u);
+  std::map<std::string, double> moving;
+  for (const auto& row : bench["rows"]) {
+    EXPECT_GT(row["temporal_change"].get<double>(), 0.0) << row["label"];
+    if (row["method"] == "ref") {
+      EXPECT_FALSE(row.contains("moving_rmse") && !row["moving_rmse"].is_null());
+      continue;
+    }
+    moving[row["label"].get<std::string>()] = row["moving_rmse"].get<double>();
+  }
+  // 16 samples come closer to the 16-sample reference than 1 does, on every moving frame's mean.
+  EXPECT_GT(moving.at("srt spp=1"), 0.0);
+  EXPECT_LT(moving.at("srt spp=16"), moving.at("srt spp=1"));
+  EXPECT_LT(moving.at("frt spp=16"), moving.at("frt spp=1"));
+  const std::vector<std::string> lines = csvLines(out / "bench.csv");
+  const std::vector<std::string> header = csvFields(lines[0]);
+  const std::size_t column = std::size_t(std::find(header.begin(), header.end(), "moving_rmse") - header.begin());
+  ASSERT_LT(column, header.size());
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<std::string> f = csvFields(lines[i]);
+    ASSERT_EQ(f.size(), header.size()) << lines[i];
+    EXPECT_EQ(f[column].empty(), lines[i].find(",ref,") != std::string::npos) << lines[i];
+  }
+}
+
 TEST_F(Report, BenchAndTuneRefuseBadInputWithOneLine) {
   const std::pair<std::string, std::string> cases[] = {
       {"bench --scenes builtin:square --sm-res 512,abc", "--shadow-map-res"},
