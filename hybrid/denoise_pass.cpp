@@ -11,7 +11,7 @@
 namespace penumbra {
 namespace {
 
-static_assert(sizeof(shared::DenoiseAccumulatePush) == 96 && sizeof(shared::DenoiseSpatialPush) == 32 &&
+static_assert(sizeof(shared::DenoiseAccumulatePush) == 112 && sizeof(shared::DenoiseSpatialPush) == 32 &&
                   sizeof(shared::DenoiseHistory) == 16,
               "std430 layout of shared/denoise.h");
 
@@ -19,7 +19,8 @@ using Type = vk::DescriptorType;
 constexpr gpu::Binding kAccumulateBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
                                                 {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
                                                 {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
-                                                {6, Type::eStorageBuffer}, {7, Type::eStorageBuffer}};
+                                                {6, Type::eStorageBuffer}, {7, Type::eStorageBuffer},
+                                                {8, Type::eStorageBuffer}};
 constexpr gpu::Binding kSpatialBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
                                              {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
                                              {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
@@ -88,8 +89,12 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                             .buffer(4, in.flags)
                             .buffer(5, history_[current_])
                             .buffer(6, history_[next])
-                            .buffer(7, accumulated_));
+                            .buffer(7, accumulated_)
+                            .buffer(8, in.blockers));
+  // The history follows the shadows of a light that moved (denoise_accumulate.comp's shadowBefore).
+  const bool followLight = settings.followShadows && historyValid_ && in.light.type == previousLight_.type;
   accumulate_.pushConstants(cmd, shared::DenoiseAccumulatePush{.previousViewProj = previousViewProj_,
+                                                               .lightShift = followLight ? in.light.position - previousLight_.position : glm::vec4(0.0f),
                                                                .pixelScale = pixelScale,
                                                                .maxHistory = historyFramesNow,
                                                                .useHistory = temporal && historyValid_ ? 1u : 0u,

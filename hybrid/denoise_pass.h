@@ -26,12 +26,17 @@ struct DenoiseSettings {
   DenoiseMode mode = DenoiseMode::Off;
   float maxRadius = 16.0f;      // pixels
   float maxHistory = 32.0f;     // frames the temporal average spans at most (a still view converges over them)
-  // While the light moves, the history spans at most the frames over which it moves by this fraction
-  // of its own angular size (seen from the scene's centre): shadows move by a like fraction of
-  // their penumbra's width, so the average does not drag them (1 frame when it jumps).
-  // 0.35: under a light circling 0.25 degrees a frame the shadows change about as much from frame
-  // to frame as the reference's (0.95x and 1.19x on the courtyard and the bunny; 0.5 lags, 0.74x).
-  float motionFraction = 0.35f;
+  // While the light moves, the history follows the shadows (each pixel's is fetched where the
+  // shadow now on it fell, from its blocker distance) and spans at most the frames over which the
+  // light moves by this fraction of its own angular size (seen from the scene's centre): what the
+  // shift misses (penumbrae widening, blockers of another distance) fades within them (1 frame
+  // when it jumps). 0.7: under a light circling 0.25 degrees a frame, courtyard and bunny at 512^2,
+  // lights 0.05 and 0.1, 1 spp, the shadows change from frame to frame 1.07-1.19x as much as the
+  // reference's and the moving frames' rmse is 0.023-0.033 (0.35 without following them: flicker
+  // 0.93-1.56x, rmse 0.028-0.046; 1.0 flickers a little less but keeps a trail after a light that
+  // jumps 3 degrees a frame stops).
+  float motionFraction = 0.7f;
+  bool followShadows = true;  // false: the history stays at its surface point (tests show what following buys)
   // Tuned on the courtyard at 512^2, light 0.1, 1 spp, 8th frame (bench/results/denoise.md): a
   // tighter clip (1.5) biases the average; a wider radius blurs the wires' shadows.
   float clipSigmas = 3.0f;      // after the light, the geometry or the camera moved: history clipped to

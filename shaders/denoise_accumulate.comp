@@ -1,10 +1,11 @@
 #version 450
 // The denoiser's temporal accumulation (hybrid/denoise_pass.h), before its spatial filter: each
 // noisy pixel's visibility (its light samples of this frame) is averaged with its history - the
-// running mean at the pixel where the same surface point was in the previous frame, found by
-// reprojecting the point with the previous camera - over at most maxHistory frames. The history is
-// dropped where that pixel saw another surface (disocclusion: off the receiver's plane or away from
-// the point by more than a few pixels). Where the image may have changed since (clipSigmas > 0: the
+// running mean where the same surface point was in the previous frame, found by reprojecting the
+// point with the previous camera (bilinear over the 4 pixels around it), or, after the light moved,
+// the point where the shadow now on it fell (shadowBefore) - over at most maxHistory frames. A
+// pixel's history is dropped where it saw another surface (disocclusion: off the receiver's plane
+// or away from the point by more than a few pixels). Where the image may have changed since (clipSigmas > 0: the
 // light, the geometry or the camera moved), it is also clipped to the current 5x5 neighbourhood's mean +- clipSigmas
 // deviations, so that they leave no trail: where the neighbourhood agrees (outside penumbrae) the
 // history must agree too, up to what so few samples can tell. A still scene is not clipped: any clip
@@ -22,7 +23,9 @@ layout(std430, binding = 4) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = 5) readonly buffer HistoryIn { DenoiseHistory historyIn[]; };
 layout(std430, binding = 6) writeonly buffer HistoryOut { DenoiseHistory historyOut[]; };
 layout(std430, binding = 7) writeonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
+layout(std430, binding = 8) readonly buffer Blockers { float blockers[]; };
 layout(push_constant) uniform Push { DenoiseAccumulatePush push; };
+#include "denoise_blockers.glsl"
 
 // The history's value in 16-bit fixed point (rounded to nearest: a float16's rounding, truncating
 // on some drivers, dragged a running mean down by half a unit a frame) and its frame count.
@@ -31,6 +34,22 @@ uint packHistory(float value, float frames) {
 }
 vec2 unpackHistory(uint packed) {
   return vec2(float(packed & 0xffffu) / 65535.0, float(packed >> 16u));
+}
+
+// Where on p's surface the shadow that now falls on p fell in the history's frame: a light that
+// moved by lightShift moves the shadow of a blocker b from p (of D from p to the light) by
+// -lightShift * b / (D - b), projected onto p's plane along the light's direction. Without a
+// blocker nearby (lit), p itself.
+vec3 shadowBefore(vec3 p, vec3 n, ivec2 pix) {
+  if (push.lightShift.xyz == vec3(0.0)) return p;
+  float b = nearbyBlocker(pix);
+  vec3 toLight = frame.light.position.xyz - p;
+  float d = length(toLight);
+  vec3 l = toLight / d;
+  float nl = dot(n, l);
+  if (b <= 0.0 || nl < 0.05) return p;
+  vec3 shift = push.lightShift.xyz * (b / max(d - b, 1e-3 * d));
+  return p + shift - l * (dot(n, shift) / nl);
 }
 
 void main() {
@@ -47,41 +66,54 @@ void main() {
   }
   vec3 p = position.xyz;
   float result = current, frames = 1.0;
-  if (push.useFlags != 0u && flags[index] == 0u) {
+  if (!noisy(index)) {
     frames = push.maxHistory;  // exact
   } else if (push.useHistory != 0u) {
-    vec4 clip = push.previousViewProj * vec4(p, 1.0);
-    vec2 at = (clip.xy / max(clip.w, 1e-30) * 0.5 + 0.5) * vec2(size);
-    ivec2 q = ivec2(floor(at));
-    if (clip.w > 0.0 && all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) {
+    vec3 n = imageLoad(gNormal, pix).xyz;
+    vec3 hp = shadowBefore(p, n, pix);
+    vec4 clip = push.previousViewProj * vec4(hp, 1.0);
+    // The history where hp was, bilinear over the 4 pixels around it that saw the same surface
+    // (a shadow or a camera moving by less than a pixel a frame still moves the history).
+    vec2 at = (clip.xy / max(clip.w, 1e-30) * 0.5 + 0.5) * vec2(size) - 0.5;
+    ivec2 q0 = ivec2(floor(at));
+    vec2 f = at - vec2(q0);
+    float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
+    float weight = 0.0, value = 0.0, count = 1e9;
+    for (int k = 0; k < 4 && clip.w > 0.0; ++k) {
+      ivec2 q = q0 + ivec2(k & 1, k >> 1);
+      float w = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
+      if (w <= 0.0 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       DenoiseHistory h = historyIn[uint(q.y) * frame.width + uint(q.x)];
       vec2 vc = unpackHistory(h.valueCount);
-      vec3 n = imageLoad(gNormal, pix).xyz;
-      float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
-      if (vc.y > 0.0 && abs(dot(n, h.position - p)) < 2.0 * pixelWorld && distance(h.position, p) < 4.0 * pixelWorld) {
-        float history = vc.x;
-        float sum = 0.0, squares = 0.0, count = 0.0;
-        for (int dy = -2; dy <= 2 && push.clipSigmas > 0.0; ++dy) {
-          for (int dx = -2; dx <= 2; ++dx) {
-            ivec2 r = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
-            if (imageLoad(gPosition, r).w == 0.0) continue;
-            float v = visibility[uint(r.y) * frame.width + uint(r.x)];
-            sum += v;
-            squares += v * v;
-            count += 1.0;
-          }
-        }
-        if (count > 0.0) {
-          float mean = sum / count;
-          float deviation = sqrt(max(squares / count - mean * mean, 0.0));
-          // Neighbours whose count * spp samples all agree bound the value only to within 3 / (count *
-          // spp) (the rule of three): clipping to their value exactly would drag penumbra tails to 0 or 1.
-          float spread = push.clipSigmas * deviation + 3.0 / (count * float(max(frame.spp, 1u)));
-          history = clamp(history, mean - spread, mean + spread);
-        }
-        frames = min(vc.y + 1.0, push.maxHistory);
-        result = mix(history, current, 1.0 / frames);
+      if (vc.y > 0.0 && abs(dot(n, h.position - hp)) < 2.0 * pixelWorld && distance(h.position, hp) < 4.0 * pixelWorld) {
+        weight += w;
+        value += w * vc.x;
+        count = min(count, vc.y);
       }
+    }
+    if (weight > 0.0) {
+      float history = value / weight;
+      float sum = 0.0, squares = 0.0, neighbours = 0.0;
+      for (int dy = -2; dy <= 2 && push.clipSigmas > 0.0; ++dy) {
+        for (int dx = -2; dx <= 2; ++dx) {
+          ivec2 r = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
+          if (imageLoad(gPosition, r).w == 0.0) continue;
+          float v = visibility[uint(r.y) * frame.width + uint(r.x)];
+          sum += v;
+          squares += v * v;
+          neighbours += 1.0;
+        }
+      }
+      if (neighbours > 0.0) {
+        float mean = sum / neighbours;
+        float deviation = sqrt(max(squares / neighbours - mean * mean, 0.0));
+        // Neighbours whose count * spp samples all agree bound the value only to within 3 / (count *
+        // spp) (the rule of three): clipping to their value exactly would drag penumbra tails to 0 or 1.
+        float spread = push.clipSigmas * deviation + 3.0 / (neighbours * float(max(frame.spp, 1u)));
+        history = clamp(history, mean - spread, mean + spread);
+      }
+      frames = min(count + 1.0, push.maxHistory);
+      result = mix(history, current, 1.0 / frames);
     }
   }
   historyOut[index] = DenoiseHistory(p, packHistory(result, frames));

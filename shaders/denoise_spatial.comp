@@ -19,8 +19,7 @@ layout(std430, binding = 4) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = 5) readonly buffer Blockers { float blockers[]; };
 layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 layout(push_constant) uniform Push { DenoiseSpatialPush push; };
-
-bool noisy(uint index) { return push.useFlags == 0u || flags[index] != 0u; }
+#include "denoise_blockers.glsl"
 
 void main() {
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
@@ -38,22 +37,10 @@ void main() {
   float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
 
   // The radius that gathers targetSamples samples, bounded by the penumbra's width where a blocker
-  // distance is known among the 3x3 pixels 2 apart around it.
+  // distance is known nearby.
   float radius = sqrt(push.targetSamples / (3.14159265 * max(centre.y, 1.0) * float(max(frame.spp, 1u))));
-  float blockerSum = 0.0, blockerCount = 0.0;
-  for (int dy = -2; dy <= 2; dy += 2) {
-    for (int dx = -2; dx <= 2; dx += 2) {
-      ivec2 q = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
-      uint qi = uint(q.y) * frame.width + uint(q.x);
-      float b = noisy(qi) ? blockers[qi] : 0.0;
-      if (b > 0.0) {
-        blockerSum += b;
-        blockerCount += 1.0;
-      }
-    }
-  }
-  if (blockerCount > 0.0) {
-    float blocker = blockerSum / blockerCount;
+  float blocker = nearbyBlocker(pix);
+  if (blocker > 0.0) {
     float toLight = distance(p, frame.light.position.xyz);
     float width = frame.light.size * blocker / max(toLight - blocker, 1e-3 * toLight);
     radius = min(radius, push.widthFraction * width / pixelWorld);

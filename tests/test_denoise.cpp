@@ -151,6 +151,31 @@ TEST(Denoise, LightThatStopsLeavesNoTrail) {
   expectValidationSilent();
 }
 
+// A light circling half a degree a frame: each pixel's history is fetched where the shadow now on
+// it fell (from its blocker distance), so over the moving frames the sequence stays closer to the
+// reference of each frame than the same history kept at its surface point, which drags the shadows.
+TEST(Denoise, HistoryFollowsTheShadowsOfAMovingLight) {
+  double moving[2] = {0.0, 0.0};
+  SoftCourtyard reference(denoiseSettings(1, DenoiseMode::Off));
+  const Bounds bounds = reference.scene.bounds();
+  std::vector<Frame> references;
+  for (std::uint32_t i = 1; i <= 8; ++i) references.push_back(reference.renderer->render("ref", reference.camera, orbitLight(reference.light, bounds, 0.5f * float(i))));
+  for (const bool follow : {false, true}) {
+    RenderSettings settings = denoiseSettings(1, DenoiseMode::Temporal);
+    settings.denoise.followShadows = follow;
+    SoftCourtyard run(settings);
+    run.sequence("srt", 0, 8, run.light);
+    for (std::uint32_t i = 1; i <= 8; ++i) {
+      const Frame frame = run.sequence("srt", 7 + i, 1, orbitLight(run.light, bounds, 0.5f * float(i)));
+      moving[follow] += against(frame, references[i - 1]).rmse / 8.0;
+    }
+  }
+  std::cout << "mean rmse of 8 moving frames: history following the shadows " << moving[1] << ", kept at its point "
+            << moving[0] << "\n";
+  EXPECT_LT(moving[1], 0.9 * moving[0]);
+  expectValidationSilent();
+}
+
 // A camera cut: the history of the old view is reused only where the same surface point was seen
 // (reprojected, on the same plane, within a few pixels); elsewhere the frame starts afresh. So the
 // first frame after the cut is no further from the reference than a first frame without history,

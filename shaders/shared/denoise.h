@@ -8,9 +8,10 @@ PN_BEGIN
 #define DENOISE_GROUP_SIZE 8  // 8x8 pixels per workgroup
 #define DENOISE_TAPS 3        // spatial filter: (2 * DENOISE_TAPS + 1)^2 taps, spaced to span the radius
 
-// denoise_accumulate.comp, 96 bytes.
+// denoise_accumulate.comp, 112 bytes.
 struct DenoiseAccumulatePush {
   mat4 previousViewProj;  // the camera of the frame the history holds
+  vec4 lightShift;        // xyz: the light's centre now minus in the frame the history holds
   float pixelScale;       // world size of a pixel at unit distance from the camera (2 tan(fovY / 2) / height)
   float maxHistory;       // frames the accumulation averages at most (its 1 / alpha)
   uint useHistory;        // 0: the history is empty (first frame of a sequence, --denoise spatial)
