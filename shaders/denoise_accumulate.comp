@@ -107,8 +107,8 @@ void main() {
       if (neighbours > 0.0) {
         float mean = sum / neighbours;
         float deviation = sqrt(max(squares / neighbours - mean * mean, 0.0));
-        // Neighbours whose count * spp samples all agree bound the value only to within 3 / (count *
-        // spp) (the rule of three): clipping to their value exactly would drag penumbra tails to 0 or 1.
+        // N neighbours whose N * spp samples all agree bound the value only to within 3 / (N * spp)
+        // (the rule of three): clipping to their value exactly would drag penumbra tails to 0 or 1.
         float spread = push.clipSigmas * deviation + 3.0 / (neighbours * float(max(frame.spp, 1u)));
         history = clamp(history, mean - spread, mean + spread);
       }
