@@ -99,7 +99,8 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                                                                .maxHistory = historyFramesNow,
                                                                .useHistory = temporal && historyValid_ ? 1u : 0u,
                                                                .useFlags = in.useFlags ? 1u : 0u,
-                                                               .clipSigmas = changed ? settings.clipSigmas : 0.0f});
+                                                               .clipSigmas = changed ? settings.clipSigmas : 0.0f,
+                                                               .followSpread = settings.followSpread});
   cmd.dispatch(groupsX, groupsY, 1);
   gpu::computeToComputeAndHost(cmd);
   spatial_.bind(cmd, gpu::Descriptors{}

@@ -38,16 +38,19 @@ vec2 unpackHistory(uint packed) {
 
 // Where on p's surface the shadow that now falls on p fell in the history's frame: a light that
 // moved by lightShift moves the shadow of a blocker b from p (of D from p to the light) by
-// -lightShift * b / (D - b), projected onto p's plane along the light's direction. Without a
-// blocker nearby (lit), p itself.
+// -lightShift * b / (D - b), projected onto p's plane along the light's direction. p itself where
+// the nearby blockers do not agree on one distance (fewer than DENOISE_FOLLOW_BLOCKERS known, or
+// spread over more than followSpread of their mean: foliage, where one shift moves the history
+// wrongly) or none is near (lit).
 vec3 shadowBefore(vec3 p, vec3 n, ivec2 pix) {
   if (push.lightShift.xyz == vec3(0.0)) return p;
-  float b = nearbyBlocker(pix);
+  vec4 b4 = nearbyBlockers(pix);
+  float b = b4.x;
   vec3 toLight = frame.light.position.xyz - p;
   float d = length(toLight);
   vec3 l = toLight / d;
   float nl = dot(n, l);
-  if (b <= 0.0 || nl < 0.05) return p;
+  if (b4.w < float(DENOISE_FOLLOW_BLOCKERS) || nl < 0.05 || b4.z - b4.y > push.followSpread * b) return p;
   vec3 shift = push.lightShift.xyz * (b / max(d - b, 1e-3 * d));
   return p + shift - l * (dot(n, shift) / nl);
 }

@@ -4,10 +4,11 @@
 // Whether the pixel's visibility is noisy: srt's penumbra mask, or every covered pixel for frt.
 bool noisy(uint index) { return push.useFlags == 0u || flags[index] != 0u; }
 
-// The mean blocker distance the trace found among the 3x3 noisy pixels 2 apart around pix (0: none).
-float nearbyBlocker(ivec2 pix) {
+// The blocker distances the trace found among the 3x3 noisy pixels 2 apart around pix: their mean
+// (.x; 0: none), nearest (.y), farthest (.z) and how many (.w).
+vec4 nearbyBlockers(ivec2 pix) {
   ivec2 size = ivec2(frame.width, frame.height);
-  float sum = 0.0, count = 0.0;
+  float sum = 0.0, count = 0.0, nearest = 1e30, farthest = 0.0;
   for (int dy = -2; dy <= 2; dy += 2) {
     for (int dx = -2; dx <= 2; dx += 2) {
       ivec2 q = clamp(pix + ivec2(dx, dy), ivec2(0), size - 1);
@@ -16,8 +17,10 @@ float nearbyBlocker(ivec2 pix) {
       if (b > 0.0) {
         sum += b;
         count += 1.0;
+        nearest = min(nearest, b);
+        farthest = max(farthest, b);
       }
     }
   }
-  return count > 0.0 ? sum / count : 0.0;
+  return count > 0.0 ? vec4(sum / count, nearest, farthest, count) : vec4(0.0);
 }

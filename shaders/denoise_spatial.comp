@@ -39,7 +39,7 @@ void main() {
   // The radius that gathers targetSamples samples, bounded by the penumbra's width where a blocker
   // distance is known nearby.
   float radius = sqrt(push.targetSamples / (3.14159265 * max(centre.y, 1.0) * float(max(frame.spp, 1u))));
-  float blocker = nearbyBlocker(pix);
+  float blocker = nearbyBlockers(pix).x;
   if (blocker > 0.0) {
     float toLight = distance(p, frame.light.position.xyz);
     float width = frame.light.size * blocker / max(toLight - blocker, 1e-3 * toLight);

@@ -7,6 +7,7 @@ PN_BEGIN
 
 #define DENOISE_GROUP_SIZE 8  // 8x8 pixels per workgroup
 #define DENOISE_TAPS 3        // spatial filter: (2 * DENOISE_TAPS + 1)^2 taps, spaced to span the radius
+#define DENOISE_FOLLOW_BLOCKERS 2  // shadows are followed where at least this many nearby blocker distances are known
 
 // denoise_accumulate.comp, 112 bytes.
 struct DenoiseAccumulatePush {
@@ -17,7 +18,8 @@ struct DenoiseAccumulatePush {
   uint useHistory;        // 0: the history is empty (first frame of a sequence, --denoise spatial)
   uint useFlags;          // 1: only pixels with a trace flag are noisy (srt's penumbra mask); 0: every covered pixel
   float clipSigmas;       // > 0: history clipped to the current 5x5 neighbourhood's mean +- this many deviations
-  uint pad0, pad1, pad2;
+  float followSpread;     // the history follows shadows where the nearby blocker distances span at most this fraction of their mean
+  uint pad0, pad1;
 };
 
 // denoise_spatial.comp, 32 bytes.
