@@ -244,9 +244,10 @@ void BenchCommand::write(const nlohmann::json& bench) const {
   fs::create_directories(base_.outDir);
   writeJson(base_.outDir + "/bench.json", bench);
   writeBenchCsv(base_.outDir + "/bench.csv", bench["rows"]);
+  writeBenchTables(base_.outDir + "/tables.md", bench);
   printSweepSummary(bench["rows"], std::cout);
   if (!noReport_) writeReport("bench", base_.outDir);
-  std::cout << "wrote " << base_.outDir << "/ (bench.csv, bench.json" << (noReport_ ? "" : ", report.html") << ")\n";
+  std::cout << "wrote " << base_.outDir << "/ (bench.csv, bench.json, tables.md" << (noReport_ ? "" : ", report.html") << ")\n";
 }
 
 }  // namespace penumbra

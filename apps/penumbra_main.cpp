@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/bench_command.h"
+#include "apps/device_command.h"
 #include "apps/report.h"
 #include "apps/run_config.h"
 #include "apps/tune_command.h"
@@ -172,6 +173,7 @@ int main(int argc, char** argv) {
   BenchCommand bench(app);
   TuneCommand tune(app);
   VisibilityCommand visibility(app);
+  DeviceCommand device(app);
 
   try {
     app.parse(argc, argv);
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
     if (bench.parsed()) return bench.run();
     if (tune.parsed()) return tune.run();
     if (visibility.parsed()) return visibility.run();
+    if (device.parsed()) return device.run();
     return runCommand(config, splitList(methodList), true);
   } catch (const vk::OutOfDeviceMemoryError&) {  // beyond what the estimate foresaw
     return outOfMemory("device memory");

@@ -102,6 +102,12 @@ std::string machineDescription();
 // One CSV row per JSON row (header first; fields quoted where needed).
 void writeBenchCsv(const std::string& path, const nlohmann::json& rows);
 
+// Markdown tables of a bench (bench.json's object), readable where no Python is: every configuration
+// (time, spread, PIP %, rays, rays/s of the trace pass, error, memory), then Lauterbach et al. 2009's
+// Fig. 8 shape per scene, resolution, light and tracer: sm, srt and frt with srt's model bound, the sm
+// frame plus srt's traced share (PIP %) of frt's trace pass.
+void writeBenchTables(const std::string& path, const nlohmann::json& bench);
+
 // Prints label, time, PIP and error per row.
 void printSweepSummary(const nlohmann::json& rows, std::ostream& out);
 

@@ -46,6 +46,12 @@ constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 }  // namespace
 
+std::string unusableReason(const vk::raii::PhysicalDevice& device) {
+  if (device.getProperties().apiVersion < VK_API_VERSION_1_3) return "Vulkan older than 1.3";
+  if (!hasDeviceExtension(device, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) return "no VK_KHR_push_descriptor";
+  return "";
+}
+
 Context::Context(const ContextOptions& options) : validate_(options.validate), printMessages_(options.printMessages) {
   if (validate_ && !hasLayer(context_, kValidationLayer)) {
     throw std::runtime_error(std::string("Vulkan validation requested but ") + kValidationLayer +
@@ -76,9 +82,7 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
   vk::raii::PhysicalDevices devices(instance_);
   std::vector<vk::raii::PhysicalDevice> usable;
   for (auto& d : devices) {
-    if (d.getProperties().apiVersion >= VK_API_VERSION_1_3 && hasDeviceExtension(d, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) {
-      usable.push_back(std::move(d));
-    }
+    if (unusableReason(d).empty()) usable.push_back(std::move(d));
   }
   if (usable.empty()) {
     throw std::runtime_error("no Vulkan 1.3 device with VK_KHR_push_descriptor found; install mesa-vulkan-drivers "

@@ -19,6 +19,9 @@ struct ContextOptions {
   std::uint64_t storageBufferRangeLimit = 0;
 };
 
+// Why Penumbra cannot run on `device` ("" when it can): it needs Vulkan 1.3 and VK_KHR_push_descriptor.
+std::string unusableReason(const vk::raii::PhysicalDevice& device);
+
 class Context {
  public:
   explicit Context(const ContextOptions& options = {});

@@ -1,5 +1,6 @@
-// Runs the penumbra command (PENUMBRA_CLI, the built binary) the way a user does, in a fresh
-// temporary folder per test, and captures its exit code, stdout and stderr.
+// Runs the penumbra command (PENUMBRA_CLI, the built binary, or the environment's PENUMBRA_CLI: the
+// bundle's, scripts/bundle.sh) the way a user does, in a fresh temporary folder per test, and
+// captures its exit code, stdout and stderr.
 #pragma once
 #include <sys/wait.h>
 #include <unistd.h>
@@ -37,7 +38,8 @@ class CliTest : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   CliResult run(const std::string& args) const {
-    const std::string cmd = std::string(PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
+    const char* bundled = std::getenv("PENUMBRA_CLI");
+    const std::string cmd = std::string(bundled && *bundled ? bundled : PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
                             (dir_ / "stderr").string();
     const int status = std::system(cmd.c_str());
     return {WEXITSTATUS(status), slurp(dir_ / "stdout"), slurp(dir_ / "stderr")};

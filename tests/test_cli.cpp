@@ -12,7 +12,10 @@
 
 #include "cli_fixture.h"
 #include "core/image_io.h"
+#include "gpu/timer.h"
 #include "hybrid/frame_output.h"
+#include "raster/shadow_map_pass.h"
+#include "render_fixture.h"
 
 namespace fs = std::filesystem;
 
@@ -115,7 +118,7 @@ TEST_F(Cli, RenderWritesImagesVisibilityAndStats) {
 }
 
 TEST_F(Cli, CompareWritesMetricsAndHeatmaps) {
-  const Result r = run("compare --methods sm,pcf --scene builtin:square --res 64x64 --shadow-map-res 512 --out " +
+  const Result r = run("compare --methods sm,pcf --scene builtin:square --res 64x64 --shadow-map-res 512 --no-report --out " +
                        (dir_ / "out").string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto metrics = nlohmann::json::parse(slurp(dir_ / "out" / "metrics.json"));
@@ -210,6 +213,63 @@ TEST_F(Cli, BenchShardsMergeIntoOneRun) {
   EXPECT_FALSE(fs::exists(dir_ / "m2")) << "a refused merge writes nothing";
   const Result twice = run("bench --no-report --merge " + a.string() + "," + a.string() + " --out " + (dir_ / "m3").string());
   EXPECT_NE(twice.err.find("named twice"), std::string::npos) << twice.err;
+}
+
+// bench's tables.md (readable where no Python is, e.g. on a GPU machine): a Fig. 8 row per srt
+// configuration whose model bound is the sm frame plus srt's PIP share of frt's trace pass, as
+// recomputed here from bench.json.
+TEST_F(Cli, BenchTablesHoldFig8WithTheModelBound) {
+  const fs::path out = dir_ / "out";
+  const Result r = run("bench --scenes builtin:courtyard --methods sm,srt,frt --tracer bvh --res 64x64 --repeat 1 --warmup 0 "
+                       "--temporal-frames 0 --no-report --no-images --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto bench = nlohmann::json::parse(slurp(out / "bench.json"));
+  const nlohmann::json *sm = nullptr, *srt = nullptr, *frt = nullptr;
+  for (const auto& row : bench["rows"]) {
+    if (row["method"] == "sm") sm = &row;
+    if (row["method"] == "srt") srt = &row;
+    if (row["method"] == "frt") frt = &row;
+  }
+  ASSERT_TRUE(sm && srt && frt);
+  const double bound = (*sm)["time_ms"].get<double>() +
+                       (*srt)["pip_fraction"].get<double>() * (*frt)["passes"]["trace"].get<double>();
+  const std::string tables = slurp(out / "tables.md");
+  const std::size_t fig8 = tables.find("## Lauterbach et al. 2009, Fig. 8 shape");
+  ASSERT_NE(fig8, std::string::npos) << tables;
+  const std::size_t row = tables.find("| builtin:courtyard | 64x64 | 0 | 1 | bvh | off |", fig8);
+  ASSERT_NE(row, std::string::npos) << tables;
+  std::vector<std::string> cells;
+  std::stringstream line(tables.substr(row + 1, tables.find('\n', row) - row - 1));
+  for (std::string c; std::getline(line, c, '|');) cells.push_back(c.substr(1, c.size() - 2));
+  ASSERT_GE(cells.size(), 13u) << line.str();
+  EXPECT_NEAR(std::stod(cells[6]), (*sm)["time_ms"].get<double>(), 0.006);  // sm, srt, frt, ..., bound
+  EXPECT_NEAR(std::stod(cells[7]), (*srt)["time_ms"].get<double>(), 0.006);
+  EXPECT_NEAR(std::stod(cells[8]), (*frt)["time_ms"].get<double>(), 0.006);
+  EXPECT_NEAR(std::stod(cells[12]), bound, 0.006);
+  EXPECT_NE(tables.find("| builtin:courtyard | " + (*srt)["triangles"].dump() + " | 64x64 | 0 | srt |"), std::string::npos)
+      << "every configuration's row";
+}
+
+// penumbra device: the device the renderer uses and what each `auto` setting resolves to there,
+// as the library itself resolves them; the same JSON in --out.
+TEST_F(Cli, DeviceNamesItsDeviceAndAutoChoices) {
+  const Result r = run("device --validate --out " + (dir_ / "device.json").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto info = nlohmann::json::parse(r.out);
+  EXPECT_EQ(info, nlohmann::json::parse(slurp(dir_ / "device.json")));
+  penumbra::gpu::Context& context = penumbra::test::validatedContext();
+  const auto& device = info["device"];
+  EXPECT_EQ(device["name"], context.deviceName());
+  EXPECT_EQ(device["driver"], context.driverInfo());
+  EXPECT_EQ(device["ray_query"], context.rayQuery());
+  EXPECT_EQ(device["auto"]["tracer"], penumbra::Renderer::resolveTracer(context, "auto"));
+  EXPECT_EQ(device["auto"]["shadow_reads"], penumbra::raster::bufferReads(context, {}) ? "buffer" : "texture");
+  EXPECT_EQ(device["auto"]["timer"], penumbra::gpu::toString(penumbra::gpu::defaultTimerMode(context)));
+  EXPECT_EQ(device["limits"]["max_storage_buffer_range"], context.storageBufferRange());
+  EXPECT_TRUE(info["validation_messages"].empty());
+  bool listed = false;
+  for (const auto& d : info["devices"]) listed |= d["name"] == device["name"] && d["unusable"].is_null();
+  EXPECT_TRUE(listed) << info["devices"];
 }
 
 // bench --resume (issue 20): a sweep killed after its first group keeps that group's results
