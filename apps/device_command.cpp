@@ -44,8 +44,9 @@ nlohmann::json listDevices() {
 
 nlohmann::json describe(const gpu::Context& context) {
   const auto& physical = context.physicalDevice();
-  const auto chain = physical.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties,
-                                             vk::PhysicalDeviceSubgroupProperties, vk::PhysicalDeviceVulkan13Properties>();
+  const auto chain =
+      physical.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties,
+                              vk::PhysicalDeviceSubgroupProperties, vk::PhysicalDeviceVulkan13Properties>();
   const auto& p = chain.get<vk::PhysicalDeviceProperties2>().properties;
   const auto& driver = chain.get<vk::PhysicalDeviceDriverProperties>();
   const auto& subgroup = chain.get<vk::PhysicalDeviceSubgroupProperties>();
@@ -59,12 +60,13 @@ nlohmann::json describe(const gpu::Context& context) {
     extensions[e] = hasExtension(physical, e);
   }
   nlohmann::json stages = nlohmann::json::array(), operations = nlohmann::json::array();
-  for (auto s : {vk::ShaderStageFlagBits::eVertex, vk::ShaderStageFlagBits::eGeometry, vk::ShaderStageFlagBits::eFragment,
-                 vk::ShaderStageFlagBits::eCompute}) {
+  for (auto s : {vk::ShaderStageFlagBits::eVertex, vk::ShaderStageFlagBits::eGeometry,
+                 vk::ShaderStageFlagBits::eFragment, vk::ShaderStageFlagBits::eCompute}) {
     if (subgroup.supportedStages & s) stages.push_back(vk::to_string(s));
   }
-  for (auto o : {vk::SubgroupFeatureFlagBits::eBasic, vk::SubgroupFeatureFlagBits::eVote, vk::SubgroupFeatureFlagBits::eArithmetic,
-                 vk::SubgroupFeatureFlagBits::eBallot, vk::SubgroupFeatureFlagBits::eShuffle}) {
+  for (auto o : {vk::SubgroupFeatureFlagBits::eBasic, vk::SubgroupFeatureFlagBits::eVote,
+                 vk::SubgroupFeatureFlagBits::eArithmetic, vk::SubgroupFeatureFlagBits::eBallot,
+                 vk::SubgroupFeatureFlagBits::eShuffle}) {
     if (subgroup.supportedOperations & o) operations.push_back(vk::to_string(o));
   }
   nlohmann::json heaps = nlohmann::json::array();
@@ -85,25 +87,29 @@ nlohmann::json describe(const gpu::Context& context) {
                                       std::to_string(conformance.subminor) + "." + std::to_string(conformance.patch)},
           {"extensions", extensions},
           {"ray_query", context.rayQuery()},  // enabled: extensions and features present, not turned off
-          {"features", {{"geometry_shader", bool(features.geometryShader)},
-                        {"fragment_stores_and_atomics", bool(features.fragmentStoresAndAtomics)}}},
-          {"subgroup", {{"size", subgroup.subgroupSize},
-                        {"min_size", v13.minSubgroupSize},
-                        {"max_size", v13.maxSubgroupSize},
-                        {"stages", stages},
-                        {"operations", operations}}},
-          {"limits", {{"max_storage_buffer_range", limits.maxStorageBufferRange},
-                      {"max_buffer_bytes", context.maxBufferBytes()},
-                      {"max_image_dimension_2d", limits.maxImageDimension2D},
-                      {"max_image_array_layers", limits.maxImageArrayLayers},
-                      {"max_compute_workgroup_invocations", limits.maxComputeWorkGroupInvocations},
-                      {"max_push_constants_size", limits.maxPushConstantsSize},
-                      {"timestamp_period_ns", limits.timestampPeriod},
-                      {"timestamp_compute_and_graphics", bool(limits.timestampComputeAndGraphics)}}},
+          {"features",
+           {{"geometry_shader", bool(features.geometryShader)},
+            {"fragment_stores_and_atomics", bool(features.fragmentStoresAndAtomics)}}},
+          {"subgroup",
+           {{"size", subgroup.subgroupSize},
+            {"min_size", v13.minSubgroupSize},
+            {"max_size", v13.maxSubgroupSize},
+            {"stages", stages},
+            {"operations", operations}}},
+          {"limits",
+           {{"max_storage_buffer_range", limits.maxStorageBufferRange},
+            {"max_buffer_bytes", context.maxBufferBytes()},
+            {"max_image_dimension_2d", limits.maxImageDimension2D},
+            {"max_image_array_layers", limits.maxImageArrayLayers},
+            {"max_compute_workgroup_invocations", limits.maxComputeWorkGroupInvocations},
+            {"max_push_constants_size", limits.maxPushConstantsSize},
+            {"timestamp_period_ns", limits.timestampPeriod},
+            {"timestamp_compute_and_graphics", bool(limits.timestampComputeAndGraphics)}}},
           {"memory_heaps", heaps},
-          {"auto", {{"tracer", defaultTracer(context)},
-                    {"shadow_reads", raster::bufferReads(context, {}) ? "buffer" : "texture"},
-                    {"timer", gpu::toString(gpu::defaultTimerMode(context))}}}};
+          {"auto",
+           {{"tracer", defaultTracer(context)},
+            {"shadow_reads", raster::bufferReads(context, {}) ? "buffer" : "texture"},
+            {"timer", gpu::toString(gpu::defaultTimerMode(context))}}}};
 }
 
 }  // namespace
