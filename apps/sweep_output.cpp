@@ -115,11 +115,15 @@ double passMs(const nlohmann::json& row, const char* pass) {
 void writeBenchTables(const std::string& path, const nlohmann::json& bench) {
   const nlohmann::json& rows = bench["rows"];
   std::ofstream out(path);
-  out << "# " << bench.value("title", "Penumbra bench") << "\n\n" << bench.value("device", "") << ", "
-      << bench.value("driver", "") << "; " << bench.value("machine", "") << ".\n\n" << bench.value("description", "")
-      << "\n\n## Every configuration\n\nms: median frame (min-max); passes: that frame's GPU time per pass; Mrays/s: rays over the trace pass's GPU time; memory: "
-         "the GPU buffers and images its stats list (G-buffer, shadow map, BVH or acceleration structures, ...), MB.\n\n"
-      << "| scene | triangles | res | light | configuration | ms | min-max | PIP % | rays | Mrays/s | wrong % | rmse | memory MB | passes, ms |\n"
+  out << "# " << bench.value("title", "Penumbra bench") << "\n\n"
+      << bench.value("device", "") << ", " << bench.value("driver", "") << "; " << bench.value("machine", "") << ".\n\n"
+      << bench.value("description", "")
+      << "\n\n## Every configuration\n\nms: median frame (min-max); passes: that frame's GPU time per pass; Mrays/s: "
+         "rays over the trace pass's GPU time; memory: "
+         "the GPU buffers and images its stats list (G-buffer, shadow map, BVH or acceleration structures, ...), "
+         "MB.\n\n"
+      << "| scene | triangles | res | light | configuration | ms | min-max | PIP % | rays | Mrays/s | wrong % | rmse | "
+         "memory MB | passes, ms |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const nlohmann::json& r : rows) {
     std::uint64_t memory = 0;
@@ -132,11 +136,12 @@ void writeBenchTables(const std::string& path, const nlohmann::json& bench) {
                                     : nlohmann::json(nullptr);
     const nlohmann::json& error = r["error"].is_null() ? nlohmann::json::object() : r["error"];
     out << "| " << r["scene"].get<std::string>() << " | " << r["triangles"].dump() << " | " << r["width"].dump() << "x"
-        << r["height"].dump() << " | " << shortNumber(r["light_size"].get<float>()) << " | " << r["label"].get<std::string>()
-        << " | " << cell(r["time_ms"], 2) << " | " << cell(r["time_min_ms"], 2) << "-" << cell(r["time_max_ms"], 2) << " | "
-        << cell(r["pip_fraction"], 2, 100.0) << " | " << (r["rays_traced"].is_number() ? r["rays_traced"].dump() : "")
-        << " | " << cell(rate, 1) << " | " << cell(error.value("wrong_pixel_fraction", nlohmann::json()), 4, 100.0)
-        << " | " << cell(error.value("rmse", nlohmann::json()), 4) << " | "
+        << r["height"].dump() << " | " << shortNumber(r["light_size"].get<float>()) << " | "
+        << r["label"].get<std::string>() << " | " << cell(r["time_ms"], 2) << " | " << cell(r["time_min_ms"], 2) << "-"
+        << cell(r["time_max_ms"], 2) << " | " << cell(r["pip_fraction"], 2, 100.0) << " | "
+        << (r["rays_traced"].is_number() ? r["rays_traced"].dump() : "") << " | " << cell(rate, 1) << " | "
+        << cell(error.value("wrong_pixel_fraction", nlohmann::json()), 4, 100.0) << " | "
+        << cell(error.value("rmse", nlohmann::json()), 4) << " | "
         << (memory ? cell(double(memory), 1, 1e-6) : std::string()) << " |";
     for (const auto& [pass, ms] : r["passes"].items()) out << " " << pass << "=" << cell(ms, 2);
     out << " |\n";
@@ -144,36 +149,44 @@ void writeBenchTables(const std::string& path, const nlohmann::json& bench) {
 
   // Fig. 8: per scene, resolution and light, each srt row with the frt row of the same tracer,
   // samples and denoiser, and the group's sm.
-  out << "\n## Lauterbach et al. 2009, Fig. 8 shape\n\nms, medians. bound: srt's model bound, the sm frame plus "
-         "srt's PIP share of frt's trace pass; srt/bound is how far srt is from it.\n\n"
-      << "| scene | res | light | spp | tracer | denoise | sm | srt | frt | srt/sm | frt/srt | PIP % | bound | srt/bound |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  auto denoise = [](const nlohmann::json& r) {
-    return r.contains("stats") && r["stats"]["denoise"].is_string() ? r["stats"]["denoise"].get<std::string>() : std::string("off");
-  };
-  auto sameGroup = [](const nlohmann::json& a, const nlohmann::json& b) {
-    return a["scene"] == b["scene"] && a["width"] == b["width"] && a["height"] == b["height"] && a["light_size"] == b["light_size"];
-  };
-  for (const nlohmann::json& srt : rows) {
-    if (srt["method"] != "srt") continue;
-    const nlohmann::json *sm = nullptr, *frt = nullptr;
-    for (const nlohmann::json& r : rows) {
-      if (!sameGroup(r, srt)) continue;
-      if (r["method"] == "sm" && !sm) sm = &r;
-      if (r["method"] == "frt" && !frt && r["tracer"] == srt["tracer"] && r["spp"] == srt["spp"] && denoise(r) == denoise(srt)) frt = &r;
+  if (std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& r) { return r["method"] == "srt"; })) {
+    out << "\n## Lauterbach et al. 2009, Fig. 8 shape\n\nms, medians. bound: srt's model bound, the sm frame plus "
+           "srt's PIP share of frt's trace pass; srt/bound is how far srt is from it.\n\n"
+        << "| scene | res | light | spp | tracer | denoise | sm | srt | frt | srt/sm | frt/srt | PIP % | bound | "
+           "srt/bound |\n"
+        << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    auto denoise = [](const nlohmann::json& r) {
+      return r.contains("stats") && r["stats"]["denoise"].is_string() ? r["stats"]["denoise"].get<std::string>()
+                                                                      : std::string("off");
+    };
+    auto sameGroup = [](const nlohmann::json& a, const nlohmann::json& b) {
+      return a["scene"] == b["scene"] && a["width"] == b["width"] && a["height"] == b["height"] &&
+             a["light_size"] == b["light_size"];
+    };
+    for (const nlohmann::json& srt : rows) {
+      if (srt["method"] != "srt") continue;
+      const nlohmann::json *sm = nullptr, *frt = nullptr;
+      for (const nlohmann::json& r : rows) {
+        if (!sameGroup(r, srt)) continue;
+        if (r["method"] == "sm" && !sm) sm = &r;
+        if (r["method"] == "frt" && !frt && r["tracer"] == srt["tracer"] && r["spp"] == srt["spp"] &&
+            denoise(r) == denoise(srt))
+          frt = &r;
+      }
+      const double srtMs = srt["time_ms"].get<double>();
+      auto ratio = [](double a, double b) { return b > 0.0 ? nlohmann::json(a / b) : nlohmann::json(nullptr); };
+      const double smMs = sm ? (*sm)["time_ms"].get<double>() : 0.0,
+                   frtMs = frt ? (*frt)["time_ms"].get<double>() : 0.0;
+      const double pip = srt["pip_fraction"].is_number() ? srt["pip_fraction"].get<double>() : 0.0;
+      const double bound = sm && frt ? smMs + pip * passMs(*frt, "trace") : 0.0;
+      out << "| " << srt["scene"].get<std::string>() << " | " << srt["width"].dump() << "x" << srt["height"].dump()
+          << " | " << shortNumber(srt["light_size"].get<float>()) << " | " << srt["spp"].dump() << " | "
+          << (srt["tracer"].is_string() ? srt["tracer"].get<std::string>() : "") << " | " << denoise(srt) << " | "
+          << (sm ? cell(smMs, 2) : "") << " | " << cell(srtMs, 2) << " | " << (frt ? cell(frtMs, 2) : "") << " | "
+          << (sm ? cell(ratio(srtMs, smMs), 2) : "") << " | " << (frt ? cell(ratio(frtMs, srtMs), 2) : "") << " | "
+          << cell(srt["pip_fraction"], 2, 100.0) << " | " << (bound > 0.0 ? cell(bound, 2) : "") << " | "
+          << (bound > 0.0 ? cell(ratio(srtMs, bound), 2) : "") << " |\n";
     }
-    const double srtMs = srt["time_ms"].get<double>();
-    auto ratio = [](double a, double b) { return b > 0.0 ? nlohmann::json(a / b) : nlohmann::json(nullptr); };
-    const double smMs = sm ? (*sm)["time_ms"].get<double>() : 0.0, frtMs = frt ? (*frt)["time_ms"].get<double>() : 0.0;
-    const double pip = srt["pip_fraction"].is_number() ? srt["pip_fraction"].get<double>() : 0.0;
-    const double bound = sm && frt ? smMs + pip * passMs(*frt, "trace") : 0.0;
-    out << "| " << srt["scene"].get<std::string>() << " | " << srt["width"].dump() << "x" << srt["height"].dump() << " | "
-        << shortNumber(srt["light_size"].get<float>()) << " | " << srt["spp"].dump() << " | "
-        << (srt["tracer"].is_string() ? srt["tracer"].get<std::string>() : "") << " | " << denoise(srt) << " | "
-        << (sm ? cell(smMs, 2) : "") << " | " << cell(srtMs, 2) << " | " << (frt ? cell(frtMs, 2) : "") << " | "
-        << (sm ? cell(ratio(srtMs, smMs), 2) : "") << " | " << (frt ? cell(ratio(frtMs, srtMs), 2) : "") << " | "
-        << cell(srt["pip_fraction"], 2, 100.0) << " | " << (bound > 0.0 ? cell(bound, 2) : "") << " | "
-        << (bound > 0.0 ? cell(ratio(srtMs, bound), 2) : "") << " |\n";
   }
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }

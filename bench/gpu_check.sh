@@ -303,7 +303,7 @@ fps() { [ -n "$1" ] && awk -v ms="$1" 'BEGIN { if (ms > 0) printf "%.1f", 1000 /
     for light in "0 1" "0.1 16"; do
       read -r _ _ rq_frt <<<"$(fig8 "$big" "$res" $light rq)"
       read -r _ _ bvh_frt <<<"$(fig8 "$big" "$res" $light bvh)"
-      target "frt bvh/rq time, light ${light% *}" "$([ -n "$rq_frt" ] && [ -n "$bvh_frt" ] && awk -v a="$bvh_frt" -v b="$rq_frt" 'BEGIN { printf "%.2f", a / b }')" 1
+      target "rq's speed-up over bvh (frt), light ${light% *}" "$([ -n "$rq_frt" ] && [ -n "$bvh_frt" ] && awk -v a="$bvh_frt" -v b="$rq_frt" 'BEGIN { printf "%.2f", a / b }')" 1
     done
   else
     echo "| ray queries | not offered by this device | | |"
