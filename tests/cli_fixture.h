@@ -39,8 +39,8 @@ class CliTest : public ::testing::Test {
 
   CliResult run(const std::string& args) const {
     const char* bundled = std::getenv("PENUMBRA_CLI");
-    const std::string cmd = std::string(bundled && *bundled ? bundled : PENUMBRA_CLI) + " " + args + " > " + (dir_ / "stdout").string() + " 2> " +
-                            (dir_ / "stderr").string();
+    const std::string cmd = std::string(bundled && *bundled ? bundled : PENUMBRA_CLI) + " " + args + " > " +
+                            (dir_ / "stdout").string() + " 2> " + (dir_ / "stderr").string();
     const int status = std::system(cmd.c_str());
     return {WEXITSTATUS(status), slurp(dir_ / "stdout"), slurp(dir_ / "stderr")};
   }
