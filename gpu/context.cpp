@@ -106,6 +106,7 @@ Context::Context(const ContextOptions& options) : validate_(options.validate), p
   if (options.storageBufferRangeLimit != 0) storageBufferRange_ = std::min(storageBufferRange_, options.storageBufferRangeLimit);
   maxBufferBytes_ = std::min<std::uint64_t>(limits.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize,
                                             limits.get<vk::PhysicalDeviceMaintenance4Properties>().maxBufferSize);
+  if (options.bufferBytesLimit != 0) maxBufferBytes_ = std::min(maxBufferBytes_, options.bufferBytesLimit);
 
   // Features of an extension may only be queried where the device has it.
   const char* noRayQuery = std::getenv("PENUMBRA_NO_RAY_QUERY");

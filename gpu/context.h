@@ -17,6 +17,8 @@ struct ContextOptions {
   // Tests: a maxStorageBufferRange lower than the device's (0 = the device's), so that code which
   // splits or refuses at lavapipe's 128 MiB is exercised on small scenes.
   std::uint64_t storageBufferRangeLimit = 0;
+  // Tests: likewise a limit on the bytes one buffer may hold (maxBufferBytes; 0 = the device's).
+  std::uint64_t bufferBytesLimit = 0;
 };
 
 // Why Penumbra cannot run on `device` ("" when it can): it needs Vulkan 1.3 and VK_KHR_push_descriptor.

@@ -10,6 +10,7 @@
 #include "core/builtin_scenes.h"
 #include "core/metrics.h"
 #include "core/view.h"
+#include "bounds.h"
 #include "render_fixture.h"
 
 namespace penumbra {
@@ -118,8 +119,8 @@ TEST_P(MovingFrames, SrtFollowsTheMovingDroneAndMatchesTheReference) {
   const double moved = temporalChange(before.visibility, srt.visibility, before.covered, srt.covered);
   std::cout << GetParam() << ": srt wrong " << error.wrongPixelFraction << ", mean change after the move " << moved
             << (gpu ? ", refit " + std::to_string(srt.stats.refit->ms) + " ms" : std::string()) << "\n";
-  // The bound of the static hard-shadow tests (srt on the courtyard): a few edge pixels at most.
-  EXPECT_LE(error.wrongPixelFraction, 0.001);
+  // The bound of the static hard-shadow tests: exact (measured 0 on every tracer).
+  EXPECT_LE(error.wrongPixelFraction, test::bound::kSrtWrong);
   EXPECT_GT(moved, 0.0005);  // the drone's shadow (and the drone) moved on screen
   test::expectValidationSilent();
 }

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bounds.h"
 #include "core/gpu_light.h"
 #include "core/planar_receivers.h"
 #include "core/mesh_builder.h"
@@ -136,7 +137,7 @@ Compared compareWithReference(const Light& light, std::uint32_t spp, const std::
 // along each axis at 128^2) and the Hough table's binning (samples within ~0.003 light sizes of
 // an edge's line); the other pixels are answered by srt or frt with the same samples and equal the
 // reference (srt tracing fewer of them).
-// Bound: at most 0.5% of the ground's pixels off by more than 0.05, rmse <= 0.02.
+// Bounds: tests/bounds.h (kBitmaskWrong, kBitmaskRmse).
 TEST(Bitmask, ReceiverMatchesTheReferenceWithTheSameSamples) {
   const Light light{.type = LightType::Disk, .position = {0.4f, 3.0f, 0.3f}, .direction = glm::normalize(glm::vec3(-0.1f, -1, -0.1f)), .size = 0.8f};
   for (std::uint32_t spp : {32u, 128u}) {
@@ -148,10 +149,11 @@ TEST(Bitmask, ReceiverMatchesTheReferenceWithTheSameSamples) {
       std::cout << spp << " spp, " << fallback << ": ground " << c.receiverPixels << " px, wrong " << c.wrongOnReceiver
                 << ", rmse " << c.rmseOnReceiver << "; traced " << c.traced << "\n";
       ASSERT_GT(c.receiverPixels, 5000u);
-      EXPECT_LE(c.wrongOnReceiver, 0.005);
-      EXPECT_LE(c.rmseOnReceiver, 0.02);
+      EXPECT_LE(c.wrongOnReceiver, bound::kBitmaskWrong);
+      EXPECT_LE(c.rmseOnReceiver, bound::kBitmaskRmse);
       EXPECT_EQ(c.otherWrong, 0u);
-      EXPECT_LT(c.traced, 0.5) << "only the casters' pixels are traced";
+      // Only the casters' pixels are traced: measured 5.6% of the covered pixels with frt, 0.22% with srt.
+      EXPECT_LT(c.traced, k == 0 ? 0.17 : 0.0067);
       traced[k] = c.traced;
     }
     EXPECT_LT(traced[1], traced[0]) << "srt traces only the casters' doubtful pixels";
@@ -165,8 +167,8 @@ TEST(Bitmask, LargeLightCloseToTheCastersStaysCorrect) {
   const Light light{.type = LightType::Rect, .position = {0.0f, 1.8f, 0.0f}, .direction = {0, -1, 0}, .size = 3.0f};
   const Compared c = compareWithReference(light, 64);
   std::cout << "large light: ground wrong " << c.wrongOnReceiver << ", rmse " << c.rmseOnReceiver << "\n";
-  EXPECT_LE(c.wrongOnReceiver, 0.005);
-  EXPECT_LE(c.rmseOnReceiver, 0.02);
+  EXPECT_LE(c.wrongOnReceiver, bound::kBitmaskWrong);
+  EXPECT_LE(c.rmseOnReceiver, bound::kBitmaskRmse);
   EXPECT_EQ(c.otherWrong, 0u);
   expectValidationSilent();
 }
@@ -236,7 +238,8 @@ TEST(Bitmask, PatchToPatchVisibilityMatchesEmbree) {
     const double embree = double(unblocked) / double(v.pairs);
     std::cout << c.name << ": bitmask " << v.fraction() << ", embree " << embree << ", pairs that differ " << disagree << "\n";
     EXPECT_NEAR(v.fraction(), c.expected, 0.05);
-    EXPECT_NEAR(v.fraction(), embree, 1.0 / 1024.0);
+    // Measured 0 / 6.1e-5 / 0 (960 of 1M pairs differ where the blocker's edge cuts the rectangles).
+    EXPECT_NEAR(v.fraction(), embree, bound::kPatchVisibility);
   }
   // Patches that cross each other's plane, or too many samples, are refused.
   Mesh aside = namedMesh("aside");
@@ -282,7 +285,7 @@ TEST(Bitmask, WatertightCullingKeepsClosedCastersShadows) {
   for (std::size_t i = 0; i < all.visibility.size(); ++i) differ += std::abs(all.visibility[i] - culled.visibility[i]) > 0.05f;
   const auto fill = [](const Frame& f) { return f.stats.counts.at("bitmask_fill_texels"); };
   std::cout << "closed casters: " << differ << " pixels differ by > 0.05, fill " << fill(all) << " -> " << fill(culled) << "\n";
-  EXPECT_LE(differ, all.visibility.size() / 1000);  // silhouette texels may round differently
+  EXPECT_EQ(differ, 0u);  // measured: none (the closed casters' back faces cover what the front faces do)
   EXPECT_LT(fill(culled), fill(all) * 3 / 4);
   const Frame open = run(false, false), openCulled = run(false, true);
   double darkOpen = 0.0, darkCulled = 0.0;
@@ -366,8 +369,9 @@ TEST(Bitmask, GroundAndWallEachGetAMap) {
   std::cout << "ground and wall: wrong " << wrong << ", traced " << *both.stats.pipFraction << " (ground only: "
             << *groundOnly.stats.pipFraction << "); " << both.stats.notes.front() << "\n";
   EXPECT_NE(both.stats.notes.front().find("'wall'"), std::string::npos);
-  EXPECT_LE(wrong, 0.005);
-  EXPECT_LT(*both.stats.pipFraction, 0.5 * *groundOnly.stats.pipFraction) << "the wall's pixels use its map";
+  EXPECT_LE(wrong, bound::kBitmaskTwoReceiversWrong);
+  // Measured 7.2% of the pixels traced, 55% with the ground's map alone.
+  EXPECT_LT(*both.stats.pipFraction, 0.3 * *groundOnly.stats.pipFraction) << "the wall's pixels use its map";
   expectValidationSilent();
 }
 
@@ -429,9 +433,9 @@ TEST(Bitmask, HeightFieldReceiverMatchesTheReference) {
             << double(wrong) / covered << ", traced " << *bitmask.stats.pipFraction << "; " << bitmask.stats.notes.front() << "\n";
   ASSERT_GT(onTerrain, 8000u);
   EXPECT_NE(bitmask.stats.notes.front().find("height field"), std::string::npos);
-  EXPECT_LE(double(wrong) / covered, 0.01);
-  EXPECT_LE(std::sqrt(squares / double(onTerrain)), 0.03);
-  EXPECT_LT(*bitmask.stats.pipFraction, 0.3) << "the terrain's pixels use the map";
+  EXPECT_LE(double(wrong) / covered, bound::kBitmaskTerrainWrong);
+  EXPECT_LE(std::sqrt(squares / double(onTerrain)), bound::kBitmaskTerrainRmse);
+  EXPECT_LT(*bitmask.stats.pipFraction, 0.13) << "the terrain's pixels use the map (measured 4.4% traced)";
   // A mesh that folds over itself is no height field.
   Mesh box = namedMesh("box");
   mesh::addBox(box, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});

@@ -1,5 +1,6 @@
 // Methods ao and indirect (shared/indirect.h): the GPU BVH kernel against the Embree reference on
 // the same rays, the sampling against a closed form, and colour bleeding where it must appear.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -10,6 +11,7 @@
 #include "core/scene_loader.h"
 #include "core/metrics.h"
 #include "hybrid/method.h"
+#include "bounds.h"
 #include "render_fixture.h"
 #include "shared/scene_triangles.h"
 
@@ -26,30 +28,35 @@ RenderSettings indirectSettings(std::uint32_t size, std::uint32_t rays) {
 }
 
 // Same rays, same hit shading: the GPU BVH's answers equal Embree's except where a ray grazes an
-// edge and float rounding of the sampled direction differs (cos/sin on CPU and GPU).
-// Ray queries (rq, where the device has them) likewise: the driver's watertight traversal.
-TEST(Indirect, BvhAndRayQueriesMatchTheEmbreeReference) {
+// edge and float rounding of the sampled direction differs (cos/sin on CPU and GPU): the bounds
+// (tests/bounds.h) allow a few such rays. Ray queries (rq) likewise: the driver's watertight
+// traversal; skipped, and said so, on a device without them.
+class IndirectTracers : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(IndirectTracers, MatchTheEmbreeReference) {
+  const std::string tracer = GetParam();
+  if (tracer == "rq" && !test::validatedContext().rayQuery())
+    GTEST_SKIP() << test::validatedContext().driverInfo() << " has no ray queries: rq not tested";
   SceneRun run("builtin:courtyard", indirectSettings(128, 16));
-  std::vector<std::string> tracers{"bvh"};
-  if (test::validatedContext().rayQuery()) tracers.push_back("rq");
-  for (const std::string& tracer : tracers) {
-    for (const char* term : {"ao", "indirect"}) {
+  for (const char* term : {"ao", "indirect"}) {
     const Frame ref = run.render(std::string(term) + "-embree");
-    const Frame bvh = run.render(std::string(term) + "-" + tracer);
-    const ErrorMetrics e = compareVisibility(bvh.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
+    const Frame traced = run.render(std::string(term) + "-" + tracer);
+    const ErrorMetrics e = compareVisibility(traced.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
     std::printf("%s: %s vs embree rmse %.6f, wrong %.4f%%, %llu rays, %.1f node visits/ray\n", term, tracer.c_str(),
-                e.rmse, 100.0 * e.wrongPixelFraction, (unsigned long long)*bvh.stats.raysTraced,
-                double(bvh.stats.nodeVisits.value_or(0)) / double(*bvh.stats.raysTraced + bvh.stats.counts.at("shadow_rays")));
-    EXPECT_EQ(*bvh.stats.raysTraced, *ref.stats.raysTraced) << term;
-    EXPECT_LE(e.wrongPixelFraction, 0.001) << term;
-    EXPECT_LE(e.rmse, 0.005) << term;
+                e.rmse, 100.0 * e.wrongPixelFraction, (unsigned long long)*traced.stats.raysTraced,
+                double(traced.stats.nodeVisits.value_or(0)) /
+                    double(*traced.stats.raysTraced + traced.stats.counts.at("shadow_rays")));
+    EXPECT_EQ(*traced.stats.raysTraced, *ref.stats.raysTraced) << term;
+    EXPECT_LE(e.wrongPixelFraction, test::bound::kIndirectWrong) << term;
+    EXPECT_LE(e.rmse, test::bound::kIndirectRmse) << term;
     double sum = 0.0;
     for (std::size_t i = 0; i < ref.visibility.size(); ++i) sum += ref.covered[i] ? ref.visibility[i] : 0.0f;
     EXPECT_GT(sum, 0.0) << term << ": a term to compare";
-    }
   }
   expectValidationSilent();
 }
+
+INSTANTIATE_TEST_SUITE_P(Tracers, IndirectTracers, ::testing::Values("bvh", "rq"));
 
 // Between two parallel planes h apart, a cosine-weighted ray from one reaches the other within
 // radius R exactly when cos(theta) >= h / R; cos^2(theta) of cosine-weighted directions is uniform,
@@ -117,6 +124,68 @@ TEST(Indirect, ColourBleedsFromARedWall) {
   expectValidationSilent();
 }
 
+// One bounce against a closed form, not computed with shared/indirect.h: a grey wall (x = 0, facing
+// +x, albedo a) lit by a directional light, beside a floor. Every ray from a floor point p that
+// meets the wall returns a (n_wall . l), the others nothing, so the expected term is
+// a (n_wall . l) F(p), with F the form factor from p (normal n = +y) to the wall polygon, by the
+// contour integral F = 1/(2 pi) |sum over edges of gamma_i n . (R_i x R_i+1) / |R_i x R_i+1||,
+// R_i the vectors from p to the corners and gamma_i the angle between consecutive ones (checked
+// against a direct quadrature of x y / (pi r^4) over the wall to 1e-4). 256 cosine-weighted rays
+// per pixel on the GPU BVH and on the Embree reference come within a stated bound of it per pixel,
+// and unbiased over the floor.
+double formFactor(glm::dvec3 p, glm::dvec3 n, const std::vector<glm::dvec3>& polygon) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3 a = polygon[i] - p, b = polygon[(i + 1) % polygon.size()] - p, c = glm::cross(a, b);
+    if (glm::length(c) == 0.0) continue;
+    sum += std::acos(std::clamp(glm::dot(a, b) / (glm::length(a) * glm::length(b)), -1.0, 1.0)) * glm::dot(n, c) /
+           glm::length(c);
+  }
+  return std::abs(sum) / (2.0 * 3.14159265358979);
+}
+
+TEST(Indirect, BounceOffALitWallIsItsFormFactor) {
+  // Measured worst 0.0143 (256 strata: a few cut by the wall's silhouette) and mean error 5e-5 on
+  // both tracers; unbiased rays leave the mean within ~6e-5 (a standard deviation over 7296
+  // pixels), a wrong weighting of the rays (uniform instead of cosine) moves it by ~1e-2.
+  constexpr double kWorst = 0.02, kBias = 3e-4;
+  Scene scene;
+  scene.name = "grey wall";
+  Mesh floor{.name = "floor"}, wall{.name = "wall"};
+  const float height = 2.0f, halfWidth = 3.0f;
+  mesh::addQuad(floor, {-3, 0, -4}, {4, 0, -4}, {4, 0, 4}, {-3, 0, 4}, {0, 1, 0});
+  mesh::addQuad(wall, {0, 0, -halfWidth}, {0, height, -halfWidth}, {0, height, halfWidth}, {0, 0, halfWidth}, {1, 0, 0});
+  wall.baseColor = glm::vec3(0.8f);  // 204/255 in the scene's 8-bit colours: 0.8 exactly
+  scene.meshes = {floor, wall};
+  scene.camera = Camera{.eye = {2.2f, 4.0f, 0.0f}, .target = {1.2f, 0.0f, 0.0f}};
+  const glm::vec3 travel = glm::normalize(glm::vec3(-0.6f, -1.0f, 0.2f));
+  scene.lights.push_back(Light{.type = LightType::Directional, .direction = travel});
+  SceneRun run(std::move(scene), indirectSettings(96, 256));
+  const double reflected = 0.8 * double(glm::dot(glm::vec3(1, 0, 0), -travel));
+  const std::vector<glm::dvec3> wallCorners{{0, 0, -halfWidth}, {0, height, -halfWidth}, {0, height, halfWidth}, {0, 0, halfWidth}};
+  for (const char* method : {"indirect-bvh", "indirect-embree"}) {
+    const Frame f = run.render(method);
+    const auto positions = run.renderer->gbuffer().positions();
+    double worst = 0.0, bias = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      const glm::vec4 p = positions[i];
+      if (!f.covered[i] || std::abs(p.y) > 1e-3f || p.x < 0.1f || std::abs(p.z) > 2.0f) continue;  // the floor by the wall
+      const double expected = reflected * formFactor(glm::dvec3(p), {0, 1, 0}, wallCorners);
+      worst = std::max(worst, std::abs(f.visibility[i] - expected));
+      bias += f.visibility[i] - expected;
+      ++n;
+    }
+    ASSERT_GT(n, 2000u) << method;
+    bias /= double(n);
+    std::printf("%s: %zu floor pixels, worst |error| %.4f, mean error %.5f (wall reflects %.4f)\n", method, n, worst,
+                bias, reflected);
+    EXPECT_LE(worst, kWorst) << method;
+    EXPECT_LE(std::abs(bias), kBias) << method;
+  }
+  expectValidationSilent();
+}
+
 // The candidate line space (Keul et al. 2018) answers ao and bounce rays from one representative
 // triangle per shaft at the BVH's depth D: approximate, closer to the exact BVH the deeper D is.
 // Bounds measured on this scene at 128^2 with 16 rays (ao rmse 0.065 at D = 6, 0.050 at D = 9;
@@ -169,7 +238,7 @@ TEST(Indirect, HitsSeeTheLightThroughTheShadowMapWhenAsked) {
 
 // The N-tree's line space in exact mode (ntree): the set bits lead to the leaf cells, whose
 // triangles are tested as the BVH tests them, front to back: the Embree reference's answers, as
-// bvh gives them (the same bounds as BvhMatchesTheEmbreeReference).
+// bvh gives them (the same bounds as IndirectTracers.MatchTheEmbreeReference).
 TEST(Indirect, NTreeMatchesTheEmbreeReference) {
   SceneRun run("builtin:courtyard", indirectSettings(128, 16));
   for (const char* term : {"ao", "indirect"}) {
@@ -182,8 +251,8 @@ TEST(Indirect, NTreeMatchesTheEmbreeReference) {
                 double(*ntree.stats.triangleTests) / double(*ntree.stats.raysTraced + ntree.stats.counts.at("shadow_rays")),
                 double(ntree.stats.memoryBytes.at("ntree")) / 1e6);
     EXPECT_EQ(*ntree.stats.raysTraced, *ref.stats.raysTraced) << term;
-    EXPECT_LE(e.wrongPixelFraction, 0.001) << term;
-    EXPECT_LE(e.rmse, 0.005) << term;
+    EXPECT_LE(e.wrongPixelFraction, test::bound::kIndirectWrong) << term;
+    EXPECT_LE(e.rmse, test::bound::kIndirectRmse) << term;
   }
   expectValidationSilent();
 }
@@ -201,9 +270,11 @@ TEST(Indirect, NTreeFollowsTheMovingMeshes) {
     const Frame ntree = run.render(std::string(term) + "-ntree");
     const ErrorMetrics e = compareVisibility(ntree.visibility, bvh.visibility, bvh.covered, kWrongThresholdSoft);
     std::printf("%s after the move: ntree vs bvh rmse %.6f, wrong %.4f%%\n", term, e.rmse, 100.0 * e.wrongPixelFraction);
-    EXPECT_LE(e.wrongPixelFraction, 0.001) << term;
-    EXPECT_LE(e.rmse, 0.005) << term;
-    if (std::string(term) == "indirect") EXPECT_NE(bvh.visibility, before.visibility) << "the move changes the frame";
+    // The same sampled rays on the same device, triangles tested alike: identical (measured so).
+    EXPECT_EQ(ntree.visibility, bvh.visibility) << term;
+    if (std::string(term) == "indirect") {
+      EXPECT_NE(bvh.visibility, before.visibility) << "the move changes the frame";
+    }
   }
   expectValidationSilent();
 }

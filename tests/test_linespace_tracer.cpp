@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
+#include "bounds.h"
 #include "raytrace/embree_tracer.h"
 #include "raytrace/linespace_tracer.h"
 #include "render_fixture.h"
@@ -89,9 +90,11 @@ TEST(LineSpaceTracer, SoftShadowsOnlyDarken) {
   EXPECT_GT(l.stats.memoryBytes.at("linespace"), 0u);
   EXPECT_TRUE(l.stats.setupMs.count("linespace_build"));
   EXPECT_GT(*l.stats.nodeVisits, *l.stats.raysTraced);
-  // Brighter pixels come only from the start-node skip: at most 1% of the covered pixels.
-  EXPECT_LE(brighter, 0.01);
-  EXPECT_GT(darkening, 0.0) << "the line space over-darkens overall";
+  // Brighter pixels come only from the start-node skip (measured 0.20% of the covered pixels).
+  EXPECT_LE(brighter, test::bound::kLineSpaceBrighter);
+  // Everything else darkens: the mean darkening is nearly all of the mean error (measured 0.1396 of 0.1425).
+  const double covered = double(std::count(r.covered.begin(), r.covered.end(), std::uint8_t(1)));
+  EXPECT_GE(darkening / covered, 0.95 * e.mae) << "the line space over-darkens";
   expectValidationSilent();
 }
 
@@ -108,7 +111,8 @@ TEST(LineSpaceTracer, ManySamplesHideBlockySilhouettes) {
     run.light.size = 0.5f * run.scene.bounds().radius();
     reference[i] = run.render("ref");
     ls[i] = run.render("ls");
-    EXPECT_LE(brighterFraction(ls[i], reference[i], 0.0f), 0.01) << spp << " spp";
+    // No blocker lies within the ground's start node or offset here: never brighter (measured so).
+    EXPECT_EQ(brighterFraction(ls[i], reference[i], 0.0f), 0.0) << spp << " spp";
   }
   std::vector<std::uint8_t> penumbra(reference[1].visibility.size());
   std::size_t penumbraPixels = 0;
@@ -287,7 +291,8 @@ TEST(LineSpaceTracer, ExactShadowsMatchTheReferenceAndKeepTheFenceBars) {
               double(*exact.stats.triangleTests) / rays);
   ASSERT_EQ(exact.stats.tracer, "ls");
   EXPECT_EQ(*exact.stats.raysTraced, *r.stats.raysTraced) << "the same samples as the reference";
-  EXPECT_LE(ee.rmse, 0.03);
+  EXPECT_EQ(ee.wrongPixelFraction, 0.0) << "the BVH's triangle test on the reference's samples";
+  EXPECT_LE(ee.rmse, test::bound::kExactLineSpaceRmse);
   EXPECT_LT(ee.rmse, 0.25 * eb.rmse) << "exact mode removes most of binary mode's error";
   EXPECT_GT(*exact.stats.triangleTests, 0u);
   EXPECT_EQ(*binary.stats.triangleTests, 0u) << "binary mode tests no triangles";
@@ -337,8 +342,9 @@ TEST(LineSpaceTracer, ExactShadowsAgreeWithTheBvhAndKeepContactShadows) {
   EXPECT_EQ(*exact.stats.raysTraced, *frt.stats.raysTraced);
   ASSERT_GT(dark, 400u);
   EXPECT_GT(binaryLost, 0u) << "binary mode loses the contact shadow";
-  EXPECT_LE(exactLost, dark / 1000) << "exact mode keeps it";
-  EXPECT_LE(wrongExact, 0.001);
+  // The same rays as frt and the BVH's triangle test on the same device: the same answers.
+  EXPECT_EQ(exactLost, 0u) << "exact mode keeps it";
+  EXPECT_EQ(wrongExact, 0.0);
   expectValidationSilent();
 }
 
@@ -362,36 +368,43 @@ TEST(LineSpaceTracer, SrtOnTheExactLineSpaceMatchesSrtOnTheBvh) {
               exactWrong, binaryWrong, double(*frames[1].stats.triangleTests) / double(*frames[1].stats.raysTraced));
   ASSERT_EQ(frames[1].stats.tracer, "ls");
   EXPECT_EQ(*frames[1].stats.raysTraced, *frames[0].stats.raysTraced) << "the same PIP rays";
-  EXPECT_LE(exactWrong, 0.001);
+  EXPECT_EQ(exactWrong, 0.0) << "the BVH's triangle test on the same PIP rays";
   EXPECT_LT(exactWrong, binaryWrong);
   expectValidationSilent();
 }
 
 // The two-level path: the drone (moving, on its own BVH or ray queries) beside the exact line
-// space over the static meshes; before and after it moves, the same shadows as frt on the BVH.
-TEST(LineSpaceTracer, ExactShadowsWithMovingMeshesMatchTheBvh) {
-  std::vector<LineSpaceSettings::Moving> movers{LineSpaceSettings::Moving::Bvh};
-  if (validatedContext().rayQuery()) movers.push_back(LineSpaceSettings::Moving::RayQuery);
-  for (const auto moving : movers) {
-    RenderSettings settings = lsSettings(128, 1, exactLineSpace({4, 2, 0}));
-    settings.lineSpace.movingTracer = moving;
-    settings.tracer = "bvh";
-    test::SceneRun run("builtin:courtyard-moving:1", settings);
-    for (int pose = 0; pose < 2; ++pose) {
-      if (pose == 1) {
-        poseScene(run.scene, 2.3);
-        run.renderer->sceneMoved();
-      }
-      const Frame frt = run.render("frt");
-      const Frame ls = run.render("ls");
-      const double wrong = test::differingPixels(ls, frt);
-      std::printf("courtyard-moving, exact ls (moving on %s), pose %d: differs from frt on %.5f of pixels\n",
-                  moving == LineSpaceSettings::Moving::Bvh ? "bvh" : "ray queries", pose, wrong);
-      EXPECT_LE(wrong, 0.001) << "pose " << pose;
+// space over the static meshes; before and after it moves, the same shadows as frt on the BVH
+// (the same rays and triangle test: identical). Ray queries are skipped, and said so, on a device
+// without them.
+class ExactLineSpaceMovers : public ::testing::TestWithParam<LineSpaceSettings::Moving> {};
+
+TEST_P(ExactLineSpaceMovers, MatchTheBvhBeforeAndAfterTheMove) {
+  const LineSpaceSettings::Moving moving = GetParam();
+  if (moving == LineSpaceSettings::Moving::RayQuery && !validatedContext().rayQuery())
+    GTEST_SKIP() << validatedContext().driverInfo() << " has no ray queries: the movers on rq not tested";
+  RenderSettings settings = lsSettings(128, 1, exactLineSpace({4, 2, 0}));
+  settings.lineSpace.movingTracer = moving;
+  settings.tracer = "bvh";
+  test::SceneRun run("builtin:courtyard-moving:1", settings);
+  for (int pose = 0; pose < 2; ++pose) {
+    if (pose == 1) {
+      poseScene(run.scene, 2.3);
+      run.renderer->sceneMoved();
     }
+    const Frame frt = run.render("frt");
+    const Frame ls = run.render("ls");
+    const double wrong = test::differingPixels(ls, frt);
+    std::printf("courtyard-moving, exact ls (moving on %s), pose %d: differs from frt on %.5f of pixels\n",
+                moving == LineSpaceSettings::Moving::Bvh ? "bvh" : "ray queries", pose, wrong);
+    EXPECT_EQ(wrong, 0.0) << "pose " << pose;
   }
   expectValidationSilent();
 }
+
+INSTANTIATE_TEST_SUITE_P(Movers, ExactLineSpaceMovers,
+                         ::testing::Values(LineSpaceSettings::Moving::Bvh, LineSpaceSettings::Moving::RayQuery),
+                         [](const auto& info) { return info.param == LineSpaceSettings::Moving::Bvh ? "bvh" : "rq"; });
 
 }  // namespace
 }  // namespace penumbra

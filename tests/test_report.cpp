@@ -256,20 +256,25 @@ TEST_F(Report, BenchAndTuneRefuseBadInputWithOneLine) {
 // can be the cheapest of all, which tune reports when they are candidates.)
 //
 // builtin:square under a directional light: sm is wrong only within a texel or two of the edge, so a
-// loose bound admits it, and nothing does less work.
-TEST_F(Report, TuneNamesShadowMapUnderALooseBoundOnSquare) {
+// loose bound admits it. Which admitted configuration is fastest is this machine's measurement, so
+// the test holds tune to its own rule on its own rows (chooseCheapest, tested on fixed rows below):
+// sm qualifies, the choice is the rule's, and the command names it.
+TEST_F(Report, TuneChoosesByItsRuleUnderALooseBoundOnSquare) {
   const fs::path out = dir_ / "tune";
   const Result r = run("tune --scene builtin:square --methods sm,pcf,srt --max-error 0.02 --res 96x96 --warmup 1 "
                        "--repeat 5 --out " + out.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json tune = nlohmann::json::parse(slurp(out / "tune.json"));
   ASSERT_FALSE(tune["chosen"].is_null());
-  EXPECT_EQ(tune["chosen"]["method"], "sm") << tune["verdict"];
+  for (const auto& row : tune["rows"]) {
+    if (row["method"] == "sm") EXPECT_LE(row["error"]["wrong_pixel_fraction"].get<double>(), 0.02) << row["label"];
+  }
+  EXPECT_EQ(tune["chosen"], chooseCheapest(tune["rows"], tune["metric"].get<std::string>(), 0.02)) << tune["verdict"];
   EXPECT_LE(tune["chosen"]["error"]["wrong_pixel_fraction"].get<double>(), 0.02);
   EXPECT_TRUE(fs::exists(out / "tune.png"));
   EXPECT_GT(colourSpread(readPng(out / "tune.png")).first, 50u);
   expectImagesExist(out / "report.html");
-  EXPECT_NE(r.out.find("use: --method sm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("use: --method " + tune["chosen"]["method"].get<std::string>()), std::string::npos) << r.out;
 }
 
 // builtin:wires: wires thinner than a texel, so every shadow-map method misses them at every map

@@ -10,6 +10,7 @@
 #include "core/mesh_builder.h"
 #include "core/metrics.h"
 #include "core/miss_explainer.h"
+#include "bounds.h"
 #include "mesh_checks.h"
 #include "render_fixture.h"
 #include "shared/pip.h"
@@ -64,13 +65,8 @@ struct Case {
   const char* scene;
   std::uint32_t size;
   double maxPip;  // what selectivity buys on this view (wires: the close-up is within a texel of a wire's shadow almost everywhere)
+  double minSmWrong;  // sm's error here, a third of what was measured: the failure srt must fix
 };
-
-std::size_t coveredPixels(const Frame& frame) {
-  std::size_t covered = 0;
-  for (std::uint8_t c : frame.covered) covered += c;
-  return covered;
-}
 
 class SelectiveOnScene : public ::testing::TestWithParam<Case> {};
 
@@ -83,26 +79,23 @@ TEST_P(SelectiveOnScene, MatchesReferenceWhereShadowMapFails) {
   const double smWrong = wrong(sm, reference), srtWrong = wrong(srt, reference);
   std::cout << c.scene << " " << c.size << "^2: sm wrong " << smWrong << ", srt wrong " << srtWrong << ", pip "
             << *srt.stats.pipFraction << ", pip miss " << pipMiss(srt, reference) << "\n";
-  EXPECT_LE(srtWrong, 0.001);
-  EXPECT_GT(smWrong, 5.0 * srtWrong) << "sm must be clearly worse";
-  // Conservative: every pixel the shadow map gets wrong was traced, apart from the documented
-  // contact case (a caster standing on its receiver: no depth edge in the first texel), at most
-  // 1 in 10^4 covered pixels.
-  EXPECT_LE(missedPixels(srt, reference), coveredPixels(reference) / 10000);
+  EXPECT_LE(srtWrong, bound::kSrtWrong);
+  EXPECT_GT(smWrong, c.minSmWrong) << "sm must be wrong here";
+  // Conservative: every pixel the shadow map gets wrong was traced (measured: none missed; the
+  // contact case, a caster standing on its receiver, is the room's, CubeMapSeamsAreTraced).
+  EXPECT_EQ(missedPixels(srt, reference), 0u);
   // Selective: fewer rays than pixels, and one ray per traced pixel for a hard shadow.
   ASSERT_TRUE(srt.stats.pipFraction && srt.stats.raysTraced && srt.stats.pipPixels);
   EXPECT_LT(*srt.stats.pipFraction, c.maxPip);
-  if (std::string(c.scene) != "builtin:courtyard") {
-    EXPECT_EQ(pipMiss(srt, reference), 0.0) << "no caster stands on a receiver here";
-  }
   EXPECT_LE(*srt.stats.raysTraced, *srt.stats.pipPixels);
   expectValidationSilent();
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SelectiveOnScene,
-                         ::testing::Values(Case{"builtin:courtyard", 256, 0.2}, Case{"builtin:courtyard", 512, 0.2},
-                                           Case{"builtin:wires", 256, 0.9}, Case{"builtin:wires", 512, 0.9},
-                                           Case{"builtin:square", 256, 0.02}),
+                         // sm measured wrong: 0.81% / 0.76%, 7.7% / 7.7%, 0.013%
+                         ::testing::Values(Case{"builtin:courtyard", 256, 0.2, 0.0025}, Case{"builtin:courtyard", 512, 0.2, 0.0025},
+                                           Case{"builtin:wires", 256, 0.9, 0.025}, Case{"builtin:wires", 512, 0.9, 0.025},
+                                           Case{"builtin:square", 256, 0.02, 4e-5}),
                          [](const auto& info) {
                            std::string name = std::string(info.param.scene).substr(8) + "_" + std::to_string(info.param.size);
                            return name;
@@ -116,9 +109,9 @@ TEST(Selective, ThinPassIsWhatFixesWires) {
   const Frame srt = withoutThin.render("srt");
   std::cout << "wires without thin pass: srt wrong " << wrong(srt, reference) << ", pip miss " << pipMiss(srt, reference) << "\n";
   // Without it, wires that fell between texel centres leave no depth edge to find: srt misses
-  // their shadows and breaks its 0.1% bound several times over.
+  // their shadows (measured 0.58% wrong, 7.6% of sm's errors untraced).
   EXPECT_GT(wrong(srt, reference), 0.002) << "without the thin pass the missed wires stay missed";
-  EXPECT_GT(pipMiss(srt, reference), 0.02);
+  EXPECT_GT(pipMiss(srt, reference), 0.025);
 
   settings.pip.thinPass = true;
   SceneRun withThin("builtin:wires", settings);
@@ -126,7 +119,7 @@ TEST(Selective, ThinPassIsWhatFixesWires) {
   std::size_t thinMarked = 0;
   for (std::uint8_t f : fixed.pip) thinMarked += (f & PIP_THIN) != 0;
   EXPECT_GT(thinMarked, 100u);
-  EXPECT_LE(wrong(fixed, reference), 0.001);
+  EXPECT_LE(wrong(fixed, reference), bound::kSrtWrong);
 
   // The map fitted to the view (--light-fit view): far fewer pixels classified, still within the bound.
   settings.fitLightToView = true;
@@ -135,7 +128,7 @@ TEST(Selective, ThinPassIsWhatFixesWires) {
   std::cout << "wires: pip whole-scene map " << *fixed.stats.pipFraction << ", fitted (zoom " << *fitted.stats.lightMapZoom
             << ") " << *fitted.stats.pipFraction << ", wrong " << wrong(fitted, reference) << "\n";
   EXPECT_LT(*fitted.stats.pipFraction, 0.5 * *fixed.stats.pipFraction);
-  EXPECT_LE(wrong(fitted, reference), 0.001);
+  EXPECT_LE(wrong(fitted, reference), bound::kSrtWrong);
   expectValidationSilent();
 }
 
@@ -165,11 +158,11 @@ TEST(Selective, CubeMapSeamsAreTraced) {
   std::size_t seams = 0;
   for (std::uint8_t f : srt.pip) seams += (f & PIP_SEAM) != 0;
   EXPECT_GT(seams, 0u) << "the room's view crosses cube-face seams";
-  EXPECT_LE(wrong(srt, reference), 0.001);
-  // Documented bias case: where a caster stands on the floor (the pillar's base, the crate's
-  // edge) caster and floor depths meet, so the first texel shows no depth edge; sm and the
-  // ray disagree there on a couple of contact pixels (2 of 36864 measured). Nowhere else.
-  EXPECT_LE(missedPixels(srt, reference), coveredPixels(reference) / 10000) << "more than the contact pixels were missed";
+  EXPECT_LE(wrong(srt, reference), bound::kSrtWrong);
+  // Where a caster stands on the floor (the pillar's base, the crate's edge) caster and floor
+  // depths meet, so the first texel shows no depth edge; the contact rules (layerOver and the
+  // neighbour test) catch those pixels: none missed (2 of 36864 before them).
+  EXPECT_EQ(missedPixels(srt, reference), 0u);
   expectValidationSilent();
 }
 
@@ -211,7 +204,7 @@ TEST(SoftSelective, MatchesFullRayTracingForSmallMediumLargeLights) {
     const SoftRun r = softRun("builtin:courtyard", size);
     std::cout << "courtyard light " << size << ": srt vs frt differ " << r.differ << ", pip " << *r.srt.stats.pipFraction
               << ", rays srt " << *r.srt.stats.raysTraced << " frt " << *r.frt.stats.raysTraced << "\n";
-    EXPECT_LE(r.differ, 0.005) << "light size " << size;
+    EXPECT_LE(r.differ, bound::kSoftSrtVsFrt) << "light size " << size;
     EXPECT_LT(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced) << "light size " << size;
     // Every pixel in frt's penumbra was traced (same samples: frt is the reference here).
     EXPECT_EQ(penumbraMissFraction(r.frt.visibility, r.frt.covered, r.srt.pip), 0.0) << "light size " << size;
@@ -223,8 +216,11 @@ TEST(SoftSelective, ShrinkingLightConvergesToHardShadows) {
   SceneRun hard("builtin:courtyard", settingsFor(192));
   const Frame hardSrt = hard.render("srt");
   const SoftRun tiny = softRun("builtin:courtyard", 1e-4f);
-  EXPECT_LE(compareVisibility(tiny.srt.visibility, hardSrt.visibility, hardSrt.covered, kWrongThresholdHard).wrongPixelFraction,
-            0.001);
+  const double differ =
+      compareVisibility(tiny.srt.visibility, hardSrt.visibility, hardSrt.covered, kWrongThresholdHard).wrongPixelFraction;
+  // Measured 0. The bound leaves room for a pixel right on an edge, where 16 samples 1e-4 radii
+  // apart may straddle it while the point light's one ray does not: 6 pixels at 192^2.
+  EXPECT_LE(differ, 1e-4);
   expectValidationSilent();
 }
 
@@ -235,7 +231,7 @@ TEST(SoftSelective, HugeLightDegradesGracefullyToFullRayTracing) {
   ASSERT_FALSE(r.srt.stats.notes.empty()) << "srt says it has become frt";
   EXPECT_NE(r.srt.stats.notes.front().find("penumbra mask covers"), std::string::npos);
   EXPECT_LE(*r.srt.stats.raysTraced, *r.frt.stats.raysTraced);
-  EXPECT_LE(r.differ, 0.005);
+  EXPECT_LE(r.differ, bound::kSoftSrtVsFrt);
   expectValidationSilent();
 }
 
@@ -296,7 +292,7 @@ TEST(SoftSelective, CornerMapsCatchEdgesTheCentreMapCannotSee) {
   EXPECT_GT(differ(srt1), 0.005);
   EXPECT_EQ(missed5, 0u) << "the corner maps see the wall";
   EXPECT_EQ(penumbraMissFraction(frt.visibility, frt.covered, srt5.pip), 0.0);
-  EXPECT_LE(differ(srt5), 0.005);
+  EXPECT_LE(differ(srt5), bound::kSoftSrtVsFrt);
   EXPECT_LT(*srt5.stats.raysTraced, *frt.stats.raysTraced / 4) << "the corner maps add the wall's penumbra, not the frame";
   expectValidationSilent();
 }

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bounds.h"
 #include "mesh_checks.h"
 
 #include "core/builtin_scenes.h"
@@ -273,7 +274,11 @@ TEST_P(StressScenesRender, ShadowMapIsWrongSomewhereAndSrtTraces) {
   std::cout << GetParam() << " 128^2: sm wrong " << smError.wrongPixelFraction << ", srt wrong "
             << srtError.wrongPixelFraction << ", srt rays " << *srt.stats.raysTraced << ", pip "
             << srt.stats.pipFraction.value_or(-1.0) << "\n";
-  EXPECT_GT(smError.wrongPixelFraction, 0.0) << "the scene must stress the shadow map";
+  // sm measured 1.5% / 0.19% / 0.25% wrong on foliage / level / knot: each scene must stress it
+  // by at least a third of that; srt measured 0 (the bound of the hard-shadow tests).
+  const double smMeasured = GetParam() == "foliage" ? 0.0153 : GetParam() == "level" ? 0.00185 : 0.00248;
+  EXPECT_GT(smError.wrongPixelFraction, smMeasured / 3.0) << "the scene must stress the shadow map";
+  EXPECT_LE(srtError.wrongPixelFraction, bound::kSrtWrong);
   EXPECT_GT(*srt.stats.raysTraced, 0u);
   expectValidationSilent();
 }
