@@ -258,7 +258,7 @@ TEST(Denoise, ContactShadowsStayHard) {
   blurredError /= double(hard);
   std::cout << hard << " pixels at hard shadow edges: mean |error| " << boundedError << " (radius bounded by the penumbra), "
             << blurredError << " (not bounded)\n";
-  EXPECT_LT(boundedError, 0.02);
+  EXPECT_LT(boundedError, 0.016);  // measured 0.0056
   EXPECT_LT(boundedError, 0.7 * blurredError);
   expectValidationSilent();
 }
@@ -295,7 +295,7 @@ TEST(Denoise, TerminatorOfCurvedSurfacesStaysSharp) {
   }
   ASSERT_GT(lit, 100u);
   std::cout << lit << " lit pixels within 3 of dark ones: mean |error| " << error / double(lit) << "\n";
-  EXPECT_LT(error / double(lit), 0.005);  // measured 0.0016; 0.015 when taps cross the terminator
+  EXPECT_LT(error / double(lit), 0.0048);  // measured 0.0016; 0.015 when taps cross the terminator
   expectValidationSilent();
 }
 

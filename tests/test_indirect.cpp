@@ -232,7 +232,7 @@ TEST(Indirect, HitsSeeTheLightThroughTheShadowMapWhenAsked) {
               100.0 * e.wrongPixelFraction);
   EXPECT_EQ(f.stats.counts.at("shadow_rays"), 0u);
   EXPECT_GT(e.rmse, 0.0);
-  EXPECT_LE(e.rmse, 0.01);
+  EXPECT_LE(e.rmse, 0.0058);  // measured 0.0019
   expectValidationSilent();
 }
 

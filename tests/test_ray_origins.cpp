@@ -78,7 +78,8 @@ TEST(RayOrigins, FarFromTheOriginNothingShadowsItself) {
   };
   const Frame near = render({0, 0, 0}, "ref");
   const Frame far = render({1e5f, 0, 1e5f}, "ref");
-  EXPECT_LE(differingPixels(near, far, true), 0.001) << "the reference far from the origin shadows itself";
+  // Measured 0.009%: the ball's points carry float rounding of 1e5-unit coordinates.
+  EXPECT_LE(differingPixels(near, far, true), 0.00027) << "the reference far from the origin shadows itself";
   EXPECT_EQ(differingPixels(render({1e5f, 0, 1e5f}, "frt"), far), 0.0);
   expectValidationSilent();
 }
@@ -121,7 +122,8 @@ TEST(RayOrigins, GeoreferencedModelRendersAsAtTheOrigin) {
     const auto [origin, far] = renderAt(offset);
     EXPECT_GT(glm::length(origin), 0.9 * offset) << "the model is stored relative to a far origin";
     for (std::size_t m = 0; m < far.size(); ++m) {
-      EXPECT_LE(differingPixels(near[m], far[m]), 0.001) << kMethods[m] << " at " << offset;
+      // Stored relative to its own origin, the model is the same floats as at the origin: identical.
+      EXPECT_EQ(differingPixels(near[m], far[m]), 0.0) << kMethods[m] << " at " << offset;
     }
     EXPECT_EQ(differingPixels(far[0], far[2]), 0.0) << "srt against the reference at " << offset;
   }
