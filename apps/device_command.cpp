@@ -18,13 +18,6 @@ std::string versionText(std::uint32_t v) {
          std::to_string(VK_API_VERSION_PATCH(v));
 }
 
-bool hasExtension(const vk::raii::PhysicalDevice& device, const std::string& name) {
-  for (const auto& e : device.enumerateDeviceExtensionProperties()) {
-    if (name == e.extensionName.data()) return true;
-  }
-  return false;
-}
-
 // Every device the loader lists, each with the reason Penumbra cannot use it (null when it can).
 nlohmann::json listDevices() {
   vk::raii::Context context;
@@ -57,7 +50,7 @@ nlohmann::json describe(const gpu::Context& context) {
   nlohmann::json extensions = nlohmann::json::object();
   for (const char* e : {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
                         VK_KHR_RAY_QUERY_EXTENSION_NAME, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME}) {
-    extensions[e] = hasExtension(physical, e);
+    extensions[e] = gpu::hasDeviceExtension(physical, e);
   }
   nlohmann::json stages = nlohmann::json::array(), operations = nlohmann::json::array();
   for (auto s : {vk::ShaderStageFlagBits::eVertex, vk::ShaderStageFlagBits::eGeometry,

@@ -159,6 +159,7 @@ void writeBenchTables(const std::string& path, const nlohmann::json& bench) {
       return r.contains("stats") && r["stats"]["denoise"].is_string() ? r["stats"]["denoise"].get<std::string>()
                                                                       : std::string("off");
     };
+    auto ratio = [](double a, double b) { return b > 0.0 ? nlohmann::json(a / b) : nlohmann::json(nullptr); };
     auto sameGroup = [](const nlohmann::json& a, const nlohmann::json& b) {
       return a["scene"] == b["scene"] && a["width"] == b["width"] && a["height"] == b["height"] &&
              a["light_size"] == b["light_size"];
@@ -174,7 +175,6 @@ void writeBenchTables(const std::string& path, const nlohmann::json& bench) {
           frt = &r;
       }
       const double srtMs = srt["time_ms"].get<double>();
-      auto ratio = [](double a, double b) { return b > 0.0 ? nlohmann::json(a / b) : nlohmann::json(nullptr); };
       const double smMs = sm ? (*sm)["time_ms"].get<double>() : 0.0,
                    frtMs = frt ? (*frt)["time_ms"].get<double>() : 0.0;
       const double pip = srt["pip_fraction"].is_number() ? srt["pip_fraction"].get<double>() : 0.0;

@@ -24,13 +24,6 @@ bool hasInstanceExtension(const vk::raii::Context& context, const char* name) {
   return false;
 }
 
-bool hasDeviceExtension(const vk::raii::PhysicalDevice& device, const char* name) {
-  for (const auto& ext : device.enumerateDeviceExtensionProperties()) {
-    if (std::string(ext.extensionName.data()) == name) return true;
-  }
-  return false;
-}
-
 // A discrete GPU beats an integrated one beats anything else; the CPU (lavapipe) is the fallback.
 int deviceRank(const vk::raii::PhysicalDevice& device) {
   switch (device.getProperties().deviceType) {
@@ -45,6 +38,13 @@ int deviceRank(const vk::raii::PhysicalDevice& device) {
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 }  // namespace
+
+bool hasDeviceExtension(const vk::raii::PhysicalDevice& device, const char* name) {
+  for (const auto& ext : device.enumerateDeviceExtensionProperties()) {
+    if (std::string(ext.extensionName.data()) == name) return true;
+  }
+  return false;
+}
 
 std::string unusableReason(const vk::raii::PhysicalDevice& device) {
   if (device.getProperties().apiVersion < VK_API_VERSION_1_3) return "Vulkan older than 1.3";

@@ -21,6 +21,8 @@ struct ContextOptions {
   std::uint64_t bufferBytesLimit = 0;
 };
 
+// Whether `device` offers the extension `name`.
+bool hasDeviceExtension(const vk::raii::PhysicalDevice& device, const char* name);
 // Why Penumbra cannot run on `device` ("" when it can): it needs Vulkan 1.3 and VK_KHR_push_descriptor.
 std::string unusableReason(const vk::raii::PhysicalDevice& device);
 
