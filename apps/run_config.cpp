@@ -209,6 +209,11 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
   app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
       ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--srt-choice", c.srtChoice,
+                 "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify "
+                 "and trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd "
+                 "the other again), off always classifies")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "off"}));
   app.add_option("--reuse-light-passes", c.reuseLightPasses,
                  "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
                  "still light's map (on), or render them every frame (off)")
@@ -333,6 +338,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.spp = c.spp;
   s.settings.denoise.mode = parseDenoiseMode(c.denoise);
   s.settings.reuseLightPasses = c.reuseLightPasses == "on";
+  s.settings.srtChoice = c.srtChoice == "auto";
   // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
   s.settings.referenceSpp =
       c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
@@ -410,6 +416,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
           {"tracer", c.tracer},
           {"denoise", c.denoise},
           {"reuse_light_passes", c.reuseLightPasses},
+          {"srt_choice", c.srtChoice},
           {"denoise_frames", c.denoiseFrames},
           {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
                    {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}, {"light_fit", c.lightFit}}},

@@ -60,6 +60,7 @@ struct RunConfig {
   std::uint32_t penumbraMaps = 1;  // area lights: 1 or 5 shadow maps for the penumbra mask
   float thinWidth = 1.0f, thinAspect = 4.0f;
   std::string rayIntervals = "off";
+  std::string srtChoice = "auto";  // auto: srt takes the cheaper of its paths per frame (RenderSettings::srtChoice)
   std::string reuseLightPasses = "off";  // on: a still light's shadow map and edge pyramid are kept (the demo's default)
   std::string shadowReads = "auto";
   std::string lightFit = "scene";

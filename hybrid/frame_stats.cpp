@@ -42,6 +42,7 @@ nlohmann::json FrameStats::toJson() const {
           {"tracer", orNull(tracer)},
           {"term", term.value_or("shadow")},
           {"denoise", orNull(denoise)},
+          {"srt_path", orNull(srtPath)},
           {"time_ms", times},
           {"reused_passes", reusedPasses},
           {"pip_fraction", orNull(pipFraction)},

@@ -19,6 +19,7 @@ struct FrameStats {
   std::optional<std::string> tracer;    // which ray tracer answered rays, if any
   std::optional<std::string> term;      // methods ao and indirect: what the frame's visibility holds
   std::optional<std::string> denoise;   // the denoiser's mode (spatial, temporal), where it ran
+  std::optional<std::string> srtPath;   // srt with --srt-choice auto: "classify" or "trace_all" this frame
   std::optional<double> pipFraction;    // fraction of covered pixels classified for tracing
   std::optional<std::uint64_t> raysTraced;
   std::optional<std::uint64_t> pipPixels;       // pixels handed to the tracer

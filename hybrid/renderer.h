@@ -59,6 +59,9 @@ struct RenderSettings {
   // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
   // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.
   bool reuseLightPasses = false;
+  // srt takes, per frame, whichever of its paths (classify, or trace every covered pixel) its own
+  // measurements say is cheaper (--srt-choice auto; hybrid/traced_method.cpp). Off: always classify.
+  bool srtChoice = false;
   DenoiseSettings denoise;           // srt/frt with an area light: the shadow denoiser (hybrid/denoise_pass.h)
   // Every pixel uses the same light samples, the pattern method bitmask looks up (--shared-samples):
   // the reference and the tracers then see bitmask's samples.

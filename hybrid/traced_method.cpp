@@ -7,6 +7,7 @@
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -51,16 +52,32 @@ void simulateBandwidth(Renderer& r, const ShadowTracer& tracer, const TraceJob& 
 class TracedMethod final : public Method {
  public:
   TracedMethod(bool selective, std::string tracerName) : selective_(selective), tracerName_(std::move(tracerName)) {}
-  bool classifies() const override { return selective_; }
+  bool classifies() const override { return classified_; }
   bool readsShadowMap() const override { return selective_; }
 
   void run(Renderer& r, FrameStats& stats) override {
     ShadowTracer& tracer = r.tracer(stats, tracerName_);
-    const bool inPlace = !selective_ && r.canTraceInPlace(tracer);
-    const TraceJob job = r.traceJob(inPlace);
+    if (!selective_) {
+      trace(r, tracer, false, stats);
+    } else if (!r.settings().srtChoice) {
+      trace(r, tracer, true, stats);
+    } else {
+      choose(r, tracer, stats);
+    }
+    if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, *lastJob_, classified_, stats);
+    if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
+  }
+
+ private:
+  // One path of the frame: the paper's (light pass, classification, trace of the doubtful pixels)
+  // or every covered pixel traced. Returns its GPU time without the camera pass, which both share.
+  double trace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+    const bool inPlace = !classify && r.canTraceInPlace(tracer);
+    const TraceJob& job = lastJob_.emplace(r.traceJob(inPlace));
+    const std::size_t passesBefore = r.timer().read().size();
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
-      if (selective_) {
+      if (classify) {
         r.recordShadowMap(cmd, stats);
         if (!r.recordClassify(cmd, stats)) r.recordCompact(cmd, COMPACT_FLAGGED);
       } else {
@@ -73,11 +90,44 @@ class TracedMethod final : public Method {
       r.timer().end(cmd);
     });
     r.finishTrace(tracer, job, stats);
-    if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, job, selective_, stats);
-    if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
+    classified_ = classify;
+    const auto passes = r.timer().read();
+    double ms = 0.0;
+    for (std::size_t i = passesBefore; i < passes.size(); ++i) {
+      if (passes[i].first != "gbuffer") ms += passes[i].second;
+    }
+    return ms;
   }
 
- private:
+  // --srt-choice auto: srt takes whichever path its own last measurements of both say is cheaper
+  // on this device, scene and view (where the light's map and the classification cost more than
+  // the rays they save, it traces every covered pixel, as frt does, and says so). Its first frame
+  // runs each path twice and keeps the second, warm, times (on lavapipe a path's first run also
+  // pays the first touch of its buffers: +35% at 1024^2), the classify path last, so that the
+  // frame's result is the paper's; every kRemeasureFrames frames the other path runs once more,
+  // as views and content change.
+  void choose(Renderer& r, ShadowTracer& tracer, FrameStats& stats) {
+    constexpr std::uint64_t kRemeasureFrames = 32;
+    if (!classifyMs_ || !traceAllMs_) {
+      for (int run = 0; run < 2; ++run) {
+        traceAllMs_ = trace(r, tracer, false, stats);
+        classifyMs_ = trace(r, tracer, true, stats);
+      }
+      stats.notes.push_back("srt measured both of its paths in this frame (--srt-choice auto): classify " +
+                            std::to_string(*classifyMs_) + " ms, trace every pixel " + std::to_string(*traceAllMs_) +
+                            " ms; the frame is the classify path's, its time both's");
+    } else {
+      bool classify = *classifyMs_ <= *traceAllMs_;
+      if (++frames_ % kRemeasureFrames == 0) classify = !classify;
+      (classify ? classifyMs_ : traceAllMs_) = trace(r, tracer, classify, stats);
+      if (!classify) {
+        stats.notes.push_back("srt traced every covered pixel (--srt-choice auto): its classify path last took " +
+                              std::to_string(*classifyMs_) + " ms, this one " + std::to_string(*traceAllMs_) + " ms");
+      }
+    }
+    stats.srtPath = classified_ ? "classify" : "trace_all";
+  }
+
   // The denoiser over this method's visibility (its own history: one pass per method object).
   void denoise(Renderer& r, FrameStats& stats) {
     const RenderSettings& s = r.settings();
@@ -85,7 +135,7 @@ class TracedMethod final : public Method {
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.timer().begin(cmd, "denoise");
       denoiser_->record(cmd,
-                        {r.gbuffer(), r.frameBuffer(), r.visibility(), r.traceFlags(), r.blockers(), selective_,
+                        {r.gbuffer(), r.frameBuffer(), r.visibility(), r.traceFlags(), r.blockers(), classified_,
                          r.view(), r.frameData().light, r.sceneVersion()},
                         s.denoise);
       r.timer().end(cmd);
@@ -95,6 +145,10 @@ class TracedMethod final : public Method {
   }
 
   bool selective_;
+  bool classified_ = false;  // this frame took the classify path (its flags and sm answer are the frame's)
+  std::optional<TraceJob> lastJob_;  // this frame's last trace
+  std::optional<double> classifyMs_, traceAllMs_;  // --srt-choice auto: each path's last GPU time
+  std::uint64_t frames_ = 0;
   std::unique_ptr<DenoisePass> denoiser_;
   std::string tracerName_;  // empty: the settings' tracer
 };

@@ -291,7 +291,8 @@ TEST_F(DemoTest, ScriptedSrtMatchesTheCliRenderOfTheSavedView) {
 TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
   Xvfb x;
   ASSERT_TRUE(x.error().empty()) << x.error();
-  const std::string common = "--scene builtin:courtyard --res 128x128 --frames 1 --validate ";
+  // The classify path, whose flags the overlay shows (--srt-choice auto may trace every pixel instead).
+  const std::string common = "--scene builtin:courtyard --res 128x128 --frames 1 --validate --srt-choice off ";
   auto shot = [&](const std::string& method, const std::string& overlay) {
     const std::string file = method + "_" + overlay + ".png";
     const auto r = demo(common + "--method " + method + " --overlay " + overlay + " --screenshot " + path(file) +
@@ -317,7 +318,7 @@ TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
   const Image plain = shot("srt", "none"), pip = shot("srt", "pip"), thin = shot("srt", "thin");
   ASSERT_EQ(plain.width, 128);
   // The CLI's srt on the same view says how many pixels it traced.
-  const auto cli = run("render --view " + path("view.json") + " --method srt --out " + path("cli"));
+  const auto cli = run("render --view " + path("view.json") + " --method srt --srt-choice off --out " + path("cli"));
   ASSERT_EQ(cli.exitCode, 0) << cli.err;
   std::ifstream statsFile(dir_ / "cli" / "srt.stats.json");
   const std::size_t traced = nlohmann::json::parse(statsFile).at("pip_pixels").get<std::size_t>();

@@ -2,6 +2,7 @@
 // it must match ref where sm does not, the thin pass must be what fixes sub-texel wires, every
 // pixel sm gets wrong must be traced (PIP conservativeness), and full ray tracing must give the
 // same answer on the GPU BVH and on Embree.
+#include <map>
 #include <string>
 #include <utility>
 
@@ -209,6 +210,40 @@ TEST(SoftSelective, MatchesFullRayTracingForSmallMediumLargeLights) {
     // Every pixel in frt's penumbra was traced (same samples: frt is the reference here).
     EXPECT_EQ(penumbraMissFraction(r.frt.visibility, r.frt.covered, r.srt.pip), 0.0) << "light size " << size;
   }
+  expectValidationSilent();
+}
+
+// --srt-choice auto: every frame is either the paper's (the classify path: srt without the choice,
+// bit for bit, with its flags) or full ray tracing's (frt's frame bit for bit, every covered pixel
+// listed); the first frame is the paper's, and both paths run within 33 frames (the other path is
+// measured again every 32nd), whichever this device finds cheaper.
+TEST(SoftSelective, ChoiceFramesAreThePapersOrFullRayTracings) {
+  RenderSettings settings = settingsFor(96);
+  settings.spp = 4;
+  SceneRun plain("builtin:courtyard", settings);
+  plain.light.size = 0.1f * plain.scene.bounds().radius();
+  const Frame paper = plain.render("srt"), full = plain.render("frt");
+  settings.srtChoice = true;
+  SceneRun choosing("builtin:courtyard", settings);
+  choosing.light = plain.light;
+  std::map<std::string, int> paths;
+  for (int i = 0; i < 33; ++i) {
+    const Frame f = choosing.render("srt");
+    ASSERT_TRUE(f.stats.srtPath.has_value());
+    ++paths[*f.stats.srtPath];
+    if (i == 0) EXPECT_EQ(*f.stats.srtPath, "classify") << "the first frame is the paper's";
+    if (*f.stats.srtPath == "classify") {
+      EXPECT_EQ(f.visibility, paper.visibility) << "frame " << i;
+      EXPECT_EQ(f.pip, paper.pip) << "frame " << i;
+    } else {
+      ASSERT_EQ(*f.stats.srtPath, "trace_all");
+      EXPECT_EQ(f.visibility, full.visibility) << "frame " << i;
+      EXPECT_TRUE(f.pip.empty()) << "no classification ran: no flags";
+      EXPECT_EQ(*f.stats.raysTraced, *full.stats.raysTraced);
+    }
+  }
+  EXPECT_GE(paths["classify"], 2);
+  EXPECT_GE(paths["trace_all"], 1);
   expectValidationSilent();
 }
 

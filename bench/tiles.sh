@@ -1,0 +1,109 @@
+#!/bin/bash
+# Whether the hybrid pays (issue 39): sm, srt with its path choice off (the paper's: classify, trace
+# the doubtful pixels) and on (--srt-choice auto: per frame the cheaper of that and tracing every
+# covered pixel, by its own measurements), frt, and srt's model bound (the sm frame plus the PIP share
+# of frt's trace), on the courtyard and the real models (bench/fetch_scenes.sh), default and close
+# views, 512^2 and 1024^2, hard and 16-spp soft (light 0.1), and 1-spp srt with the temporal
+# denoiser; --tracer bvh (TRACER=rq|embree for the others). Warm-up 1, median of REPEAT frames; ratios
+# come from one run each. ONLY=regex keeps the scenes whose label it matches.
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh" tiles
+G=bench/scenes/generated
+TRACER=${TRACER:-bvh}
+runs=$(mktemp -d)
+n=0
+
+# one LABEL VIEW RES KIND [compare options...]: the paper's srt beside sm and frt, then srt auto.
+one() {
+  local label=$1 view=$2 res=$3 kind=$4 extra=() choice
+  shift 4
+  case $kind in
+    soft) extra=(--light-size 0.1 --spp 16) ;;
+    temporal) extra=(--light-size 0.1 --spp 1 --denoise temporal) ;;
+  esac
+  for choice in off auto; do
+    n=$((n + 1))
+    local out="$runs/$(printf %03d $n)" methods=srt
+    [ "$choice" = off ] && methods=sm,srt,frt
+    echo "== $label $view $res $kind srt-choice $choice"
+    ./build/bin/penumbra compare --methods "$methods" --tracer "$TRACER" --srt-choice "$choice" --res "$res" \
+      --warmup 1 --repeat "$REPEAT" --no-report --out "$out" "${extra[@]}" "$@" >/dev/null
+    printf '%s\n' "$label" "$view" "$kind" "$res" "$choice" >"$out/case"
+  done
+}
+
+# scene LABEL VIEW [compare options...]: both resolutions, hard and soft (KINDS).
+scene() {
+  local label=$1 view=$2 res kind
+  shift 2
+  [[ "$label" =~ ${ONLY:-.} ]] || return 0
+  for res in 512x512 1024x1024; do
+    for kind in ${KINDS:-hard soft}; do one "$label" "$view" "$res" "$kind" "$@"; done
+  done
+}
+
+scene courtyard default --scene builtin:courtyard
+if [[ "courtyard" =~ ${ONLY:-.} ]]; then
+  one courtyard default 1024x1024 temporal --scene builtin:courtyard
+  one courtyard:64 default 1024x1024 soft --scene builtin:courtyard:64
+  one courtyard:64 default 1024x1024 hard --scene builtin:courtyard:64
+fi
+if [ -d "$G" ]; then
+  BUNNY=(--scene "$G/bunny_stage.gltf" --light disk:-2.668,6.326,1.601:0.378,0.236,-0.227)
+  scene "Stanford Bunny" default "${BUNNY[@]}" --camera 3.431,4.177,4.901:0,0.991,0
+  scene "Stanford Bunny" close "${BUNNY[@]}" --camera 1.201,2.106,1.715:0,0.991,0
+  FZK=(--scene "$G/fzk-haus_stage.gltf" --light disk:-2.483,5.372,1.490:0.153,0.100,-0.092)
+  scene "FZK-Haus" default "${FZK[@]}" --camera 3.193,3.371,4.561:0,0.407,0
+  scene "FZK-Haus" close "${FZK[@]}" --camera 1.118,1.444,1.596:0,0.407,0
+  close() { scene "$1" default --scene "$G/$2.gltf"; scene "$1" close --scene "$G/$2.gltf" --camera "$3"; }
+  close "Japanese maple" maple 0.778,1.608,1.112:0,0.886,0
+  close "USS Truman" truman 0.512,0.678,0.731:0,0.203,0
+  close "oasago2 (OpenArena)" oasago2 0.692,0.900,0.988:0,0.258,0
+else
+  echo "tiles: no real models (bash bench/fetch_scenes.sh): the courtyard only"
+fi
+
+/usr/bin/python3 - "$runs" bench/results/tiles "$TRACER" <<'PY'
+import csv, glob, json, os, sys
+cases = {}
+for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
+    label, view, kind, res, choice = open(os.path.join(d, "case")).read().split("\n")[:5]
+    m = json.load(open(os.path.join(d, "metrics.json")))
+    cases.setdefault((label, view, kind, res), {})[choice] = {x["method"]: x for x in m["methods"]}
+    machine = m.get("context", {}).get("device", "")
+rows = []
+for (label, view, kind, res), by in cases.items():
+    off, auto = by["off"], by["auto"]
+    sm, srt, frt, srta = off["sm"], off["srt"], off["frt"], auto["srt"]
+    t = lambda r: r["time_ms"]["total"]
+    frt_trace = frt["time_ms"].get("trace", 0.0)
+    bound = t(sm) + srt["pip_fraction"] * frt_trace
+    pct = lambda v: "" if v is None else "%.3f" % (100 * v)
+    rows.append({
+        "scene": label, "view": view, "res": res, "shadows": kind,
+        "sm_ms": "%.1f" % t(sm), "srt_off_ms": "%.1f" % t(srt), "srt_auto_ms": "%.1f" % t(srta),
+        "srt_auto_path": srta.get("srt_path") or "", "frt_ms": "%.1f" % t(frt), "bound_ms": "%.1f" % bound,
+        "frt/srt_off": "%.2f" % (t(frt) / t(srt)), "frt/srt_auto": "%.2f" % (t(frt) / t(srta)),
+        "auto/min(frt,off)": "%.2f" % (t(srta) / min(t(frt), t(srt))), "off/bound": "%.2f" % (t(srt) / bound),
+        "pip_pct": pct(srt["pip_fraction"]), "srt_off_wrong_pct": pct(srt["error"]["wrong_pixel_fraction"]),
+        "srt_auto_wrong_pct": pct(srta["error"]["wrong_pixel_fraction"]), "pip_miss_pct": pct(srt["pip_miss_fraction"]),
+    })
+keys = list(rows[0].keys())
+with open(sys.argv[2] + ".csv", "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=keys)
+    w.writeheader()
+    w.writerows(rows)
+with open(sys.argv[2] + ".md", "w") as f:
+    f.write("# Does the hybrid pay? srt's path choice (bench/tiles.sh, tracer %s)\n\n" % sys.argv[3])
+    f.write("Device: %s. Frame totals in ms, warm-up 1, median of the repeats, each configuration's methods in one "
+            "`compare` run (srt auto in a second one). srt off: the paper's path every frame; srt auto: "
+            "`--srt-choice auto` (its path in the measured frames: classify or trace_all). bound: srt's model bound, "
+            "the sm frame plus the PIP share of frt's trace. Wrong: |d| > 0.5 hard, > 0.05 soft against the Embree "
+            "reference with the same samples; pip_miss: of sm's wrong pixels, those srt off left untraced. "
+            "temporal: 1 spp with `--denoise temporal` (wrong against the 1-spp reference).\n\n" % machine)
+    f.write("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n")
+    for r in rows:
+        f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
+print("wrote %s.md (%d rows)" % (sys.argv[2], len(rows)))
+PY
+echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee bench/results/tiles.machine.txt
+rm -rf "$runs" "$csv"
