@@ -72,10 +72,11 @@ MemoryEstimate estimateBytes(const RenderSettings& s, std::uint64_t triangles, b
   MemoryEstimate e;
   const std::uint64_t pixels = std::uint64_t(s.width) * s.height;
   const std::uint64_t face = std::uint64_t(s.shadowMap.resolution) * s.shadowMap.resolution * 4;
-  // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (< 1/3 of a map);
+  // Worst case a cube: the map, msm's own map, the thin mask, and the edge pyramid (as much as a map:
+  // two floats per tile of 1/3 of a map's texels, a fit of four per tile from level 2, 1/12 of them);
   // the corner maps (--penumbra-maps 5) add one more map and pyramid.
   const std::uint64_t maps = s.pip.penumbraMaps == 5 ? 4 : 3;
-  e.lightMaps = face * 6 * maps + face * 6 / 3 * (maps - 2);
+  e.lightMaps = face * 6 * maps + face * 6 * (maps - 2);
   // G-buffer images (with depth) and readbacks; visibility, colour, sm visibility, trace flags,
   // ray max, and the compacted ShadingPoints
   e.perPixel = pixels * (16 + 16 + 4 + 4 + 4) * 2 + pixels * (4 + 4 + 4 + 4 + 4 + sizeof(shared::ShadingPoint));

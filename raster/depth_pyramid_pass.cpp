@@ -22,7 +22,8 @@ std::uint32_t levelCount(std::uint32_t resolution) {
 
 vk::DeviceSize tileBytes(std::uint32_t resolution, std::uint32_t faceCount) {
   const std::uint32_t levels = levelCount(resolution);
-  return vk::DeviceSize(shared::pyramidOffset(resolution, faceCount, levels + 1)) * 2 * sizeof(float);  // two channels per tile
+  // two channels per tile, then a fit per tile of level >= 2
+  return vk::DeviceSize(shared::pyramidFitIndex(resolution, faceCount, levels, levels + 1, 0)) * sizeof(float);
 }
 
 }  // namespace
@@ -53,7 +54,8 @@ void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMa
                                                     .kind = info.kind,
                                                     .nearPlane = info.nearPlane,
                                                     .farPlane = info.farPlane,
-                                                    .deltaThreshold = deltaThreshold});
+                                                    .deltaThreshold = deltaThreshold,
+                                                    .levels = levels_});
     const std::uint32_t dim = shared::pyramidDim(resolution_, level);
     cmd.dispatch((dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, (dim + PYRAMID_GROUP_SIZE - 1) / PYRAMID_GROUP_SIZE, faceCount_);
     gpu::computeToComputeAndHost(cmd);

@@ -1,7 +1,8 @@
 #version 450
 // One level of the edge pyramid: each tile reduces the 2x2 tiles below it; level 1 finds the edge
 // texels of the shadow map (3x3 depth edge, or a thin triangle within a texel: the thin mask is
-// dilated, shared/thin.h) and their blocker depth, and the nearest depth of all its texels.
+// dilated, shared/thin.h) and their blocker depth, and the nearest depth of all its texels; from
+// level 2 on each tile also gets its surface fit (shared/pyramid.h).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
 #include "shared/pyramid.h"
@@ -60,6 +61,56 @@ vec2 below(ivec2 q, uint face) {
   return vec2(tiles[2u * tile + PYRAMID_EDGES], tiles[2u * tile + PYRAMID_SURFACE]);
 }
 
+// A few float steps at raw depth 1, added to each level's `below` for the rounding of the fits.
+const float kFitSlack = 4.8e-7;
+
+// Level 2: the least-squares plane of the 4x4 texels from q and the deepest any lies below it.
+vec4 texelFit(ivec2 q, uint face) {
+  int res = int(push.resolution);
+  float z[16], mean = 0.0;
+  vec2 g = vec2(0.0);
+  for (int j = 0; j < 16; ++j) {
+    vec2 o = vec2(j & 3, j >> 2) - 1.5;  // from the tile's centre
+    z[j] = LIGHT_TEXEL(shadowMap, shadowTexels, clamp(q + ivec2(j & 3, j >> 2), ivec2(0), ivec2(res - 1)), face, res);
+    mean += z[j];
+    g += o * z[j];
+  }
+  mean /= 16.0;
+  g /= 20.0;  // sum of o.x^2 over the 16 texels
+  float below = 0.0;
+  for (int j = 0; j < 16; ++j) below = max(below, mean + dot(g, vec2(j & 3, j >> 2) - 1.5) - z[j]);
+  return vec4(mean, g, below + kFitSlack);
+}
+
+// Level k >= 3: a plane through the four children's fits' centres, and the deepest any child's
+// texels may lie below it (its own `below`, plus how far its plane dips under this one's over the
+// span of its texel centres).
+vec4 childrenFit(ivec2 q, uint face) {
+  uint k = push.level, dim = pyramidDim(push.resolution, k - 1u);
+  vec4 child[4];
+  bool inside[4];
+  for (int j = 0; j < 4; ++j) {
+    ivec2 c = q + ivec2(j & 1, j >> 1);
+    inside[j] = uint(c.x) < dim && uint(c.y) < dim;
+    uint at = pyramidFitIndex(push.resolution, push.faceCount, push.levels, k - 1u,
+                              (face * dim + uint(inside[j] ? c.y : q.y)) * dim + uint(inside[j] ? c.x : q.x));
+    child[j] = vec4(tiles[at + PYRAMID_FIT_CENTRE], tiles[at + PYRAMID_FIT_GRADIENT], tiles[at + PYRAMID_FIT_GRADIENT + 1u],
+                    tiles[at + PYRAMID_FIT_BELOW]);
+  }
+  float toChild = float(1u << (k - 2u));  // from this tile's centre to a child's
+  float centre = 0.25 * (child[0].x + child[1].x + child[2].x + child[3].x);
+  vec2 g = vec2(child[1].x + child[3].x - child[0].x - child[2].x, child[2].x + child[3].x - child[0].x - child[1].x) / (4.0 * toChild);
+  float childSpan = 0.5 * float((1u << (k - 1u)) - 1u);  // a child's texel centres from its centre
+  float below = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    if (!inside[j]) continue;
+    vec2 o = toChild * (2.0 * vec2(j & 1, j >> 1) - 1.0);
+    vec2 dg = g - child[j].yz;
+    below = max(below, centre + dot(g, o) - child[j].x + childSpan * (abs(dg.x) + abs(dg.y)) + child[j].w);
+  }
+  return vec4(centre, g, below + kFitSlack);
+}
+
 void main() {
   uint dim = pyramidDim(push.resolution, push.level);
   uvec3 id = gl_GlobalInvocationID;
@@ -69,4 +120,11 @@ void main() {
   uint tile = pyramidOffset(push.resolution, push.faceCount, push.level) + (id.z * dim + id.y) * dim + id.x;
   tiles[2u * tile + PYRAMID_EDGES] = nearest.x;
   tiles[2u * tile + PYRAMID_SURFACE] = nearest.y;
+  if (push.level < 2u) return;
+  vec4 fit = push.level == 2u ? texelFit(2 * q, id.z) : childrenFit(q, id.z);
+  uint at = pyramidFitIndex(push.resolution, push.faceCount, push.levels, push.level, (id.z * dim + id.y) * dim + id.x);
+  tiles[at + PYRAMID_FIT_CENTRE] = fit.x;
+  tiles[at + PYRAMID_FIT_GRADIENT] = fit.y;
+  tiles[at + PYRAMID_FIT_GRADIENT + 1u] = fit.z;
+  tiles[at + PYRAMID_FIT_BELOW] = fit.w;
 }

@@ -75,6 +75,18 @@ float planeMaxOver(MapPlane plane, ivec2 xy, uint k) {
   return plane.s0 + dot(plane.g, centre - plane.e0) + halfSpan * (abs(plane.g.x) + abs(plane.g.y));
 }
 
+// Whether the surface fit of the tile xy of level k >= 2 (at `fit` in the pyramid) allows a texel
+// over p's plane by more than its tol: the fit's plane, lowered by its `below`, rises over p's
+// plane somewhere over the tile's texel centres. Compared in raw depth, where both are affine.
+bool fitOver(MapPlane plane, ivec2 xy, uint k, uint fit) {
+  vec2 g = vec2(tiles[fit + PYRAMID_FIT_GRADIENT], tiles[fit + PYRAMID_FIT_GRADIENT + 1u]);
+  vec2 centre = vec2(xy << k) + float(1 << (k - 1u));
+  vec2 gp = plane.g / plane.sOfRaw.y;  // p's plane per texel in raw depth
+  float atCentre = tiles[fit + PYRAMID_FIT_CENTRE] - tiles[fit + PYRAMID_FIT_BELOW] - (plane.raw0 + dot(gp, centre - plane.e0));
+  vec2 dg = g - gp;
+  return atCentre - 0.5 * float((1 << k) - 1) * (abs(dg.x) + abs(dg.y)) < -plane.tol / plane.sOfRaw.y;
+}
+
 // Whether a texel of the 2x2 tile xy (level 1) is nearer than rawLimit, over p's plane by more than
 // its tol, and in its own window.
 bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, float rawLimit) {
@@ -97,7 +109,7 @@ bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, f
 //  - PYRAMID_EDGES: an edge texel whose blocker depth z_e is nearer to the light than p, in
 //    window(z_e).
 //  - PYRAMID_SURFACE: any texel nearer than p and over p's plane (mapPlane) by more than its tol,
-//    in its window. A smooth surface rising over p (an ear's curl) hides part of a light wholly
+//    in its window; a tile opens only where its surface fit (fitOver) also allows such a texel. A smooth surface rising over p (an ear's curl) hides part of a light wholly
 //    above p's plane without an edge in the map; a texel of p's own plane, or of a surface curving
 //    away below it, cannot.
 // Searched depth first in the pyramid: a tile whose nearest depth z_t lies behind the receiver,
@@ -129,6 +141,7 @@ vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plan
   uint top = 1u;
   while (top < levels && any(greaterThan((hi >> top) - (lo >> top), ivec2(1)))) ++top;
   uint topBase = pyramidOffset(res, faces, top);
+  uint fitBase = 2u * pyramidOffset(res, faces, levels + 1u) - PYRAMID_FIT_FLOATS * pyramidOffset(res, faces, 2u);
   ivec2 firstRoot = lo >> top, lastRoot = hi >> top;
   int visits = 0;
   for (int root = 0; root < 4; ++root) {
@@ -139,8 +152,10 @@ vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plan
       int dim = int(pyramidDim(res, k));
       bool open = false;
       if (xy.x < dim && xy.y < dim) {  // a map whose size is no power of two has tiles cut at its edge
-        float z = tiles[2u * (base + (face * uint(dim) + uint(xy.y)) * uint(dim) + uint(xy.x)) + channel];
-        if (z < rawLimit && (!surface || plane.sOfRaw.x + plane.sOfRaw.y * z < planeMaxOver(plane, xy, k) - plane.tol)) {
+        uint tile = base + (face * uint(dim) + uint(xy.y)) * uint(dim) + uint(xy.x);
+        float z = tiles[2u * tile + channel];
+        if (z < rawLimit && (!surface || (plane.sOfRaw.x + plane.sOfRaw.y * z < planeMaxOver(plane, xy, k) - plane.tol &&
+                                          (k < 2u || fitOver(plane, xy, k, fitBase + PYRAMID_FIT_FLOATS * tile))))) {
           splatWindow(cone, z, pad, lo, hi);
           open = all(lessThanEqual(xy << k, hi)) && all(greaterThanEqual(((xy + 1) << k) - 1, lo));
         }

@@ -87,6 +87,7 @@ float axisDepthRate(vec4 clipDir) {
 struct MapPlane {
   float s0, tol;
   vec2 e0, g;
+  float raw0;   // p's raw depth (at e0)
   vec2 sOfRaw;  // s = sOfRaw.x + sOfRaw.y * raw depth
 };
 float planeDepthMeasure(vec4 clip) {
@@ -99,6 +100,7 @@ MapPlane mapPlane(vec3 p, vec3 nf, float texel, mat4 viewProj) {
   vec4 c0 = viewProj * vec4(p, 1.0);
   plane.e0 = (c0.xy / c0.w * 0.5 + 0.5) * res;
   plane.s0 = planeDepthMeasure(c0);
+  plane.raw0 = c0.z / c0.w;
   // g with dot(g, e_i) = s_i - s0 for two points on the plane a texel from p
   vec3 t1 = normalize(cross(nf, abs(nf.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
   vec4 c1 = viewProj * vec4(p + texel * t1, 1.0), c2 = viewProj * vec4(p + texel * cross(nf, t1), 1.0);
@@ -211,7 +213,7 @@ bool blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, b
     ivec2 tf = i == 0u ? t : ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * float(res)));
     float d = axisDepth(clip);
     SplatCone cone = splatCone(offsetP, viewProj, tf);  // one cone for both channels
-    if (withinReach(cone, f, d, PYRAMID_EDGES, MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), vec2(0.0))).x > 0.0) return true;
+    if (withinReach(cone, f, d, PYRAMID_EDGES, MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0))).x > 0.0) return true;
     if (!lit) continue;
     if (i == 0u && interior && layerOver(p, nf, texel, viewProj, f, t)) return true;
     if (withinReach(cone, f, d, PYRAMID_SURFACE, mapPlane(p, nf, texel, viewProj)).x > 0.0) return true;
@@ -263,7 +265,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   ivec2 t = ivec2(floor(uv * float(res)));
   if (corner) {
     vec2 window = withinReach(splatCone(offsetP, viewProj, t), face, linearDepth(ndc.z), PYRAMID_EDGES,
-                              MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), vec2(0.0)));  // edges need no plane
+                              MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0)));  // edges need no plane
     if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) {
       // A pixel the centre pass left unflagged has its sm answer in `visibility` only and no ray
       // end (write() stores both for flagged pixels); the trace and the stats need them.

@@ -10,7 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include "core/gpu_light.h"
 #include "core/metrics.h"
+#include "raster/depth_pyramid_pass.h"
+#include "raster/scene_geometry.h"
+#include "raster/shadow_map_pass.h"
 #include "render_fixture.h"
 
 namespace penumbra::test {
@@ -156,6 +160,73 @@ TEST(PenumbraMask, SmoothSurfaceRisingOverTheReceiverIsInTheMask) {
 // receiver's face (marking pixels whose window left it) left 0.25% of the covered pixels wrong.
 TEST(PenumbraMask, BlockersInOtherCubeFacesAreFound) {
   expectGrooveMaskComplete({1.5f, 1.5f, 1.5f}, 1.0f);
+}
+
+// The surface fits of the edge pyramid (shared/pyramid.h) that let the mask's surface search skip
+// a tile: every texel of a tile of level >= 2 lies no deeper below its fit than the fit's `below`
+// says (else the search would skip a texel rising over a receiver: a missed penumbra), and the fit
+// is tight where the map is flat (else it skips nothing). Read back from the GPU, checked texel by
+// texel on the CPU: a perspective map (the courtyard's disk light), the knot's, and a cube (a
+// spherical light inside the room).
+TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
+  gpu::Context& context = validatedContext();
+  raster::ShadowMapSettings map;
+  map.resolution = 200;  // no power of two: tiles cut at the face's edge
+  map.reads = raster::ShadowMapSettings::Reads::Buffer;
+  for (const char* spec : {"builtin:courtyard", "builtin:knot", "builtin:room"}) {
+    const Scene scene = loadScene(spec);
+    Light light = scene.lights.front();
+    light.size = 0.1f * scene.bounds().radius();
+    const shared::ShadowMapInfo info = raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
+    const raster::SceneGeometry geometry(context, scene);
+    const raster::ShadowMapPass shadowMap(context, map, info.faceCount);
+    const raster::DepthPyramidPass pyramid(context, map.resolution, info.faceCount);
+    context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+      shadowMap.record(cmd, geometry, info);
+      pyramid.record(cmd, shadowMap, nullptr, info, 0.002f * (info.farPlane - info.nearPlane));
+    });
+    const std::uint32_t res = map.resolution, faces = info.faceCount, levels = pyramid.levels();
+    const std::vector<float> texels = shadowMap.texels().download<float>(std::size_t(faces) * res * res);
+    const std::vector<float> tiles = pyramid.tiles().download<float>(pyramid.tiles().size() / sizeof(float));
+    std::size_t checked = 0, violations = 0, flat = 0, levelTwo = 0;
+    double worst = -1.0;
+    for (std::uint32_t k = 2; k <= levels; ++k) {
+      const std::uint32_t dim = shared::pyramidDim(res, k), size = 1u << k;
+      for (std::uint32_t f = 0; f < faces; ++f) {
+        for (std::uint32_t ty = 0; ty < dim; ++ty) {
+          for (std::uint32_t tx = 0; tx < dim; ++tx) {
+            const std::size_t at = shared::pyramidFitIndex(res, faces, levels, k, (f * dim + ty) * dim + tx);
+            const double centre = tiles[at + PYRAMID_FIT_CENTRE], gx = tiles[at + PYRAMID_FIT_GRADIENT],
+                         gy = tiles[at + PYRAMID_FIT_GRADIENT + 1], below = tiles[at + PYRAMID_FIT_BELOW];
+            const double cx = double(tx * size) + 0.5 * size, cy = double(ty * size) + 0.5 * size;
+            bool flatTile = true;  // and every texel covered
+            for (std::uint32_t y = ty * size; y < std::min((ty + 1) * size, res); ++y) {
+              for (std::uint32_t x = tx * size; x < std::min((tx + 1) * size, res); ++x) {
+                const double raw = texels[(std::size_t(f) * res + y) * res + x];
+                const double under = centre + gx * (x + 0.5 - cx) + gy * (y + 0.5 - cy) - raw;  // how far below the fit
+                ++checked;
+                violations += under > below;
+                worst = std::max(worst, under - below);
+                flatTile = flatTile && raw < 1.0;  // covered
+              }
+            }
+            if (k == 2 && flatTile) {  // every texel covered
+              ++levelTwo;
+              flat += below < 1e-6;
+            }
+          }
+        }
+      }
+    }
+    std::cout << spec << ": " << faces << " face(s), " << checked << " texel checks, " << violations
+              << " below their tile's bound (worst by " << worst << "), " << flat << " of " << levelTwo
+              << " covered level-2 tiles fit within 1e-6\n";
+    EXPECT_EQ(violations, 0u) << spec;
+    // Planes are affine in raw depth: the courtyard's and the room's flat faces fit within a few
+    // float steps (measured: 74% and 97% of their tiles; the rest hold edges). The knot is curved.
+    if (std::string(spec) != "builtin:knot") EXPECT_GT(flat, levelTwo / 2) << spec << ": the fits should be tight where the map is flat";
+  }
+  expectValidationSilent();
 }
 
 }  // namespace

@@ -6,7 +6,12 @@
 // of its edge texels (1 = none) and the minimum depth of all its texels (the surface channel: the
 // mask's search for a smooth surface rising over a lit receiver, which has no edge). One storage
 // buffer: levels 1..count, each faceCount * dim(k)^2 tiles, face-major, a tile's two channels
-// side by side (index 2 * tile + PYRAMID_EDGES or PYRAMID_SURFACE).
+// side by side (index 2 * tile + PYRAMID_EDGES or PYRAMID_SURFACE); then, for levels 2..count,
+// each tile's surface fit (pyramidFitIndex): a plane through its texels' raw depths, z(c) =
+// centre + dot(gradient, c - the tile's centre) in texel coordinates, and how far below it the
+// nearest of them lies (every texel's raw depth >= the plane's there - below). The mask's surface
+// search skips a tile whose texels the fit puts nowhere over the receiver's plane: the receiver's
+// own surface, flat or gently curved, which the minimum alone lets through tile by tile.
 #ifndef PENUMBRA_SHARED_PYRAMID_H
 #define PENUMBRA_SHARED_PYRAMID_H
 #include "shared/glsl_cpp.h"
@@ -26,6 +31,17 @@ PN_FN uint pyramidOffset(uint resolution, uint faceCount, uint level) {
   return offset;
 }
 
+#define PYRAMID_FIT_CENTRE 0u
+#define PYRAMID_FIT_GRADIENT 1u  // x, y: raw depth per texel
+#define PYRAMID_FIT_BELOW 3u
+#define PYRAMID_FIT_FLOATS 4u
+
+// Index of the first float of the fit of tile `tile` (counted from the first of `level` >= 2).
+PN_FN uint pyramidFitIndex(uint resolution, uint faceCount, uint levels, uint level, uint tile) {
+  uint fits = pyramidOffset(resolution, faceCount, level) - pyramidOffset(resolution, faceCount, 2u) + tile;
+  return 2u * pyramidOffset(resolution, faceCount, levels + 1u) + PYRAMID_FIT_FLOATS * fits;
+}
+
 struct PyramidPush {  // 48 bytes
   uint level;       // the level this dispatch writes (>= 1)
   uint resolution;  // of level 0
@@ -34,7 +50,8 @@ struct PyramidPush {  // 48 bytes
   uint kind;        // SHADOW_* of the map, for linear depths
   float nearPlane, farPlane;
   float deltaThreshold;  // linear depth edge threshold (as PipPush.deltaThreshold)
-  uint pad0, pad1, pad2, pad3;
+  uint levels;      // the pyramid's level count (where the fits start)
+  uint pad1, pad2, pad3;
 };
 
 PN_END
