@@ -69,7 +69,7 @@ for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
     label, view, kind, res, choice = open(os.path.join(d, "case")).read().split("\n")[:5]
     m = json.load(open(os.path.join(d, "metrics.json")))
     cases.setdefault((label, view, kind, res), {})[choice] = {x["method"]: x for x in m["methods"]}
-    machine = m.get("context", {}).get("device", "")
+    machine = "%s, %s" % (m["scene"].get("device", ""), m["scene"].get("driver", ""))
 rows = []
 for (label, view, kind, res), by in cases.items():
     off, auto = by["off"], by["auto"]
@@ -106,4 +106,4 @@ with open(sys.argv[2] + ".md", "w") as f:
 print("wrote %s.md (%d rows)" % (sys.argv[2], len(rows)))
 PY
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee bench/results/tiles.machine.txt
-rm -rf "$runs" "$csv"
+rm -rf "$runs"
