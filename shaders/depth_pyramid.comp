@@ -94,12 +94,13 @@ vec4 childrenFit(ivec2 q, uint face) {
     inside[j] = uint(c.x) < dim && uint(c.y) < dim;
     uint at = pyramidFitIndex(push.resolution, push.faceCount, push.levels, k - 1u,
                               (face * dim + uint(inside[j] ? c.y : q.y)) * dim + uint(inside[j] ? c.x : q.x));
-    child[j] = vec4(tiles[at + PYRAMID_FIT_CENTRE], tiles[at + PYRAMID_FIT_GRADIENT], tiles[at + PYRAMID_FIT_GRADIENT + 1u],
-                    tiles[at + PYRAMID_FIT_BELOW]);
+    child[j] = vec4(tiles[at + PYRAMID_FIT_CENTRE], tiles[at + PYRAMID_FIT_GRADIENT],
+                    tiles[at + PYRAMID_FIT_GRADIENT + 1u], tiles[at + PYRAMID_FIT_BELOW]);
   }
   float toChild = float(1u << (k - 2u));  // from this tile's centre to a child's
   float centre = 0.25 * (child[0].x + child[1].x + child[2].x + child[3].x);
-  vec2 g = vec2(child[1].x + child[3].x - child[0].x - child[2].x, child[2].x + child[3].x - child[0].x - child[1].x) / (4.0 * toChild);
+  vec2 g = vec2(child[1].x + child[3].x - child[0].x - child[2].x, child[2].x + child[3].x - child[0].x - child[1].x) /
+           (4.0 * toChild);
   float childSpan = 0.5 * float((1u << (k - 1u)) - 1u);  // a child's texel centres from its centre
   float below = 0.0;
   for (int j = 0; j < 4; ++j) {

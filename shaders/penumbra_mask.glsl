@@ -82,7 +82,8 @@ bool fitOver(MapPlane plane, ivec2 xy, uint k, uint fit) {
   vec2 g = vec2(tiles[fit + PYRAMID_FIT_GRADIENT], tiles[fit + PYRAMID_FIT_GRADIENT + 1u]);
   vec2 centre = vec2(xy << k) + float(1 << (k - 1u));
   vec2 gp = plane.g / plane.sOfRaw.y;  // p's plane per texel in raw depth
-  float atCentre = tiles[fit + PYRAMID_FIT_CENTRE] - tiles[fit + PYRAMID_FIT_BELOW] - (plane.raw0 + dot(gp, centre - plane.e0));
+  float atCentre =
+      tiles[fit + PYRAMID_FIT_CENTRE] - tiles[fit + PYRAMID_FIT_BELOW] - (plane.raw0 + dot(gp, centre - plane.e0));
   vec2 dg = g - gp;
   return atCentre - 0.5 * float((1 << k) - 1) * (abs(dg.x) + abs(dg.y)) < -plane.tol / plane.sOfRaw.y;
 }
@@ -109,9 +110,10 @@ bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, f
 //  - PYRAMID_EDGES: an edge texel whose blocker depth z_e is nearer to the light than p, in
 //    window(z_e).
 //  - PYRAMID_SURFACE: any texel nearer than p and over p's plane (mapPlane) by more than its tol,
-//    in its window; a tile opens only where its surface fit (fitOver) also allows such a texel. A smooth surface rising over p (an ear's curl) hides part of a light wholly
-//    above p's plane without an edge in the map; a texel of p's own plane, or of a surface curving
-//    away below it, cannot.
+//    in its window; a tile opens only where its surface fit (fitOver) also allows such a texel. A
+//    smooth surface rising over p (an ear's curl) hides part of a light wholly above p's plane
+//    without an edge in the map; a texel of p's own plane, or of a surface curving away below it,
+//    cannot.
 // Searched depth first in the pyramid: a tile whose nearest depth z_t lies behind the receiver,
 // or (surface) is nowhere over p's plane in the tile, or whose texels miss window(z_t), holds no
 // such blocker (its texels' windows lie inside window(z_t)), so only tiles that meet their own
@@ -154,8 +156,12 @@ vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plan
       if (xy.x < dim && xy.y < dim) {  // a map whose size is no power of two has tiles cut at its edge
         uint tile = base + (face * uint(dim) + uint(xy.y)) * uint(dim) + uint(xy.x);
         float z = tiles[2u * tile + channel];
-        if (z < rawLimit && (!surface || (plane.sOfRaw.x + plane.sOfRaw.y * z < planeMaxOver(plane, xy, k) - plane.tol &&
-                                          (k < 2u || fitOver(plane, xy, k, fitBase + PYRAMID_FIT_FLOATS * tile))))) {
+        bool nearer = z < rawLimit;  // and for the surface channel over p's plane somewhere in the tile:
+        if (nearer && surface) {
+          nearer = plane.sOfRaw.x + plane.sOfRaw.y * z < planeMaxOver(plane, xy, k) - plane.tol &&
+                   (k < 2u || fitOver(plane, xy, k, fitBase + PYRAMID_FIT_FLOATS * tile));
+        }
+        if (nearer) {
           splatWindow(cone, z, pad, lo, hi);
           open = all(lessThanEqual(xy << k, hi)) && all(greaterThanEqual(((xy + 1) << k) - 1, lo));
         }

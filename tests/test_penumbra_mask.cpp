@@ -177,7 +177,8 @@ TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
     const Scene scene = loadScene(spec);
     Light light = scene.lights.front();
     light.size = 0.1f * scene.bounds().radius();
-    const shared::ShadowMapInfo info = raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
+    const shared::ShadowMapInfo info =
+        raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
     const raster::SceneGeometry geometry(context, scene);
     const raster::ShadowMapPass shadowMap(context, map, info.faceCount);
     const raster::DepthPyramidPass pyramid(context, map.resolution, info.faceCount);
