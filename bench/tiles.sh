@@ -5,10 +5,13 @@
 # of frt's trace), on the courtyard and the real models (bench/fetch_scenes.sh), default and close
 # views, 512^2 and 1024^2, hard and 16-spp soft (light 0.1), and 1-spp srt with the temporal
 # denoiser; --tracer bvh (TRACER=rq|embree for the others). Warm-up 1, median of REPEAT frames; ratios
-# come from one run each. ONLY=regex keeps the scenes whose label it matches.
-source "$(dirname "${BASH_SOURCE[0]}")/lib.sh" tiles
-G=bench/scenes/generated
+# come from one run each. ONLY=regex keeps the scenes whose label it matches. Results:
+# bench/results/tiles.{md,csv} (bvh), tiles_rq.*, tiles_embree.*.
 TRACER=${TRACER:-bvh}
+name=tiles
+[ "$TRACER" = bvh ] || name=tiles_$TRACER
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh" "$name"
+G=bench/scenes/generated
 runs=$(mktemp -d)
 n=0
 
@@ -62,7 +65,7 @@ else
   echo "tiles: no real models (bash bench/fetch_scenes.sh): the courtyard only"
 fi
 
-/usr/bin/python3 - "$runs" bench/results/tiles "$TRACER" <<'PY'
+/usr/bin/python3 - "$runs" "bench/results/$name" "$TRACER" <<'PY'
 import csv, glob, json, os, sys
 cases = {}
 for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
@@ -105,5 +108,5 @@ with open(sys.argv[2] + ".md", "w") as f:
         f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
 print("wrote %s.md (%d rows)" % (sys.argv[2], len(rows)))
 PY
-echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee bench/results/tiles.machine.txt
+echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee "bench/results/$name.machine.txt"
 rm -rf "$runs"
