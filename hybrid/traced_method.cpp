@@ -70,11 +70,13 @@ class TracedMethod final : public Method {
 
  private:
   // One path of the frame: the paper's (light pass, classification, trace of the doubtful pixels)
-  // or every covered pixel traced. Returns its GPU time without the camera pass, which both share.
+  // or every covered pixel traced. Returns its wall time (the device's passes and a CPU tracer's
+  // trace, which no GPU timestamp sees: Embree) less the camera pass, which both paths share.
   double trace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
     const bool inPlace = !classify && r.canTraceInPlace(tracer);
     const TraceJob& job = lastJob_.emplace(r.traceJob(inPlace));
     const std::size_t passesBefore = r.timer().read().size();
+    const auto start = std::chrono::steady_clock::now();
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
       if (classify) {
@@ -91,15 +93,15 @@ class TracedMethod final : public Method {
     });
     r.finishTrace(tracer, job, stats);
     classified_ = classify;
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto passes = r.timer().read();
-    double ms = 0.0;
     for (std::size_t i = passesBefore; i < passes.size(); ++i) {
-      if (passes[i].first != "gbuffer") ms += passes[i].second;
+      if (passes[i].first == "gbuffer") ms -= passes[i].second;
     }
     return ms;
   }
 
-  // --srt-choice auto: srt takes whichever path its own last measurements of both say is cheaper
+  // --srt-choice auto: srt takes whichever path its own last timings of both say is cheaper
   // on this device, scene and view (where the light's map and the classification cost more than
   // the rays they save, it traces every covered pixel, as frt does, and says so). Its first frame
   // runs each path twice and keeps the second, warm, times (on lavapipe a path's first run also
@@ -147,7 +149,7 @@ class TracedMethod final : public Method {
   bool selective_;
   bool classified_ = false;  // this frame took the classify path (its flags and sm answer are the frame's)
   std::optional<TraceJob> lastJob_;  // this frame's last trace
-  std::optional<double> classifyMs_, traceAllMs_;  // --srt-choice auto: each path's last GPU time
+  std::optional<double> classifyMs_, traceAllMs_;  // --srt-choice auto: each path's last time
   std::uint64_t frames_ = 0;
   std::unique_ptr<DenoisePass> denoiser_;
   std::string tracerName_;  // empty: the settings' tracer
