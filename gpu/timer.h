@@ -43,6 +43,7 @@ class GpuTimer {
   void end(const vk::raii::CommandBuffer& cmd);
   // After the submission completed: (pass, milliseconds) in recording order.
   std::vector<std::pair<std::string, double>> read() const;
+  std::size_t passCount() const { return passes_.size(); }  // passes recorded since reset()
 
  private:
   void stamp(const vk::raii::CommandBuffer& cmd, std::uint32_t query) const;

@@ -70,13 +70,10 @@ class TracedMethod final : public Method {
 
  private:
   // One path of the frame: the paper's (light pass, classification, trace of the doubtful pixels)
-  // or every covered pixel traced. Returns its wall time (the device's passes and a CPU tracer's
-  // trace, which no GPU timestamp sees: Embree) less the camera pass, which both paths share.
-  double trace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+  // or every covered pixel traced.
+  void trace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
     const bool inPlace = !classify && r.canTraceInPlace(tracer);
     const TraceJob& job = lastJob_.emplace(r.traceJob(inPlace));
-    const std::size_t passesBefore = r.timer().read().size();
-    const auto start = std::chrono::steady_clock::now();
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
       if (classify) {
@@ -93,6 +90,14 @@ class TracedMethod final : public Method {
     });
     r.finishTrace(tracer, job, stats);
     classified_ = classify;
+  }
+
+  // trace(), timed: its wall time (the device's passes and a CPU tracer's trace, which no GPU
+  // timestamp sees: Embree) less the camera pass, which both paths share.
+  double timedTrace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+    const std::size_t passesBefore = r.timer().passCount();
+    const auto start = std::chrono::steady_clock::now();
+    trace(r, tracer, classify, stats);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto passes = r.timer().read();
     for (std::size_t i = passesBefore; i < passes.size(); ++i) {
@@ -112,8 +117,8 @@ class TracedMethod final : public Method {
     constexpr std::uint64_t kRemeasureFrames = 32;
     if (!classifyMs_ || !traceAllMs_) {
       for (int run = 0; run < 2; ++run) {
-        traceAllMs_ = trace(r, tracer, false, stats);
-        classifyMs_ = trace(r, tracer, true, stats);
+        traceAllMs_ = timedTrace(r, tracer, false, stats);
+        classifyMs_ = timedTrace(r, tracer, true, stats);
       }
       stats.notes.push_back("srt measured both of its paths in this frame (--srt-choice auto): classify " +
                             std::to_string(*classifyMs_) + " ms, trace every pixel " + std::to_string(*traceAllMs_) +
@@ -121,7 +126,7 @@ class TracedMethod final : public Method {
     } else {
       bool classify = *classifyMs_ <= *traceAllMs_;
       if (++frames_ % kRemeasureFrames == 0) classify = !classify;
-      (classify ? classifyMs_ : traceAllMs_) = trace(r, tracer, classify, stats);
+      (classify ? classifyMs_ : traceAllMs_) = timedTrace(r, tracer, classify, stats);
       if (!classify) {
         stats.notes.push_back("srt traced every covered pixel (--srt-choice auto): its classify path last took " +
                               std::to_string(*classifyMs_) + " ms, this one " + std::to_string(*traceAllMs_) + " ms");

@@ -21,7 +21,7 @@ cases=(
   "9#gpu/timer.cpp#context_.timestampPeriodNs() * 1e-6#context_.timestampPeriodNs() * 1e-3#render_tests#GpuDevice.PerPassTimesAreReported"
   "10#shaders/compact_scatter.comp#point.rayMax = rayMax[p];#point.rayMax = rayMax[p] * 0.5;#pass_tests#Compact/CompactSizes.MatchesCpuReference/91x91"
   "11#shaders/depth_pyramid.comp#return vec4(centre, g, below + kFitSlack);#return vec4(centre, g, kFitSlack);#pass_tests#PenumbraMask.SurfaceFitsBoundEveryTexelOfTheirTiles"
-  "12#hybrid/traced_method.cpp#(classify ? classifyMs_ : traceAllMs_) = trace(r, tracer, classify, stats);#classifyMs_ = trace(r, tracer, true, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
+  "12#hybrid/traced_method.cpp#(classify ? classifyMs_ : traceAllMs_) = timedTrace(r, tracer, classify, stats);#classifyMs_ = timedTrace(r, tracer, true, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
 )
 
 wanted=("$@")
