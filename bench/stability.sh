@@ -129,7 +129,7 @@ for area lights (16 samples per pixel). "expected" marks the methods each case i
   covered pixels. 0.02 % together; 0.05 % leaves room for the real models' many more contact lines
   (a bunny's feet, an engine's bolts) without hiding a systematic miss, which costs far more.
 - **Approximate methods with a point light (sm, pcf; pcss and msm reduce to sm there): wrong
-  pixels <= 1 %**, the accuracy the project claims for shadow maps on its built-in scene (README,
+  pixels <= 1 %**, the accuracy the project claims for shadow maps on its built-in scene (docs/validation.md,
   "What the tests hold it to": sm, pcf vs ref <= 1 % on the courtyard).
 - **Approximate methods with an area light (pcss, msm; sm and pcf give hard shadows there):
   visibility RMSE <= 0.1**, a tenth of the range between lit and shadowed averaged over the image.

@@ -2,8 +2,8 @@
 // (lavapipe, Mesa 25.0.7, 2-core AMD EPYC, Release, 2026-11-28). Where the method and its oracle
 // trace the same rays with the same triangle test the answer is exact and the bound is 0; elsewhere
 // a bound is at most 3x what was measured, or its comment says why it is wider.
-// README.md's table "What the tests hold it to" quotes these: test_readme_claims.cpp fails when a
-// quote and its bound disagree.
+// docs/validation.md's table "What the tests hold it to" quotes these: test_readme_claims.cpp fails
+// when a quote and its bound disagree.
 #pragma once
 
 namespace penumbra::test::bound {

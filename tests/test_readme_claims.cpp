@@ -1,6 +1,7 @@
-// README.md's table "What the tests hold it to" against the bounds the tests use (tests/bounds.h):
-// each claimed bound is written from its constant here, so a row whose number disagrees with what
-// the tests assert (or a constant changed without its row) fails.
+// docs/validation.md's table "What the tests hold it to" (the README's until it moved there) against
+// the bounds the tests use (tests/bounds.h): each claimed bound is written from its constant here, so
+// a row whose number disagrees with what the tests assert (or a constant changed without its row)
+// fails.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,7 +16,7 @@
 namespace penumbra::test {
 namespace {
 
-// How the README writes a bound: "exact (0)" for 0, else "≤ " and the number (a percentage for
+// How docs/validation.md writes a bound: "exact (0)" for 0, else "≤ " and the number (a percentage for
 // fractions of pixels), shortest first: 0.1%, 0.0095, 6e-6.
 std::string number(double v) {
   char text[32];
@@ -53,8 +54,8 @@ std::vector<Claim> claims() {
 }
 
 TEST(ReadmeClaims, EveryQuotedBoundIsTheTestsOwn) {
-  std::ifstream in(std::string(PENUMBRA_SOURCE_DIR) + "/README.md");
-  ASSERT_TRUE(in) << "README.md not found in " << PENUMBRA_SOURCE_DIR;
+  std::ifstream in(std::string(PENUMBRA_SOURCE_DIR) + "/docs/validation.md");
+  ASSERT_TRUE(in) << "docs/validation.md not found in " << PENUMBRA_SOURCE_DIR;
   std::vector<std::string> rows;
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("| ", 0) == 0) rows.push_back(line);
@@ -65,14 +66,14 @@ TEST(ReadmeClaims, EveryQuotedBoundIsTheTestsOwn) {
     for (const std::string& row : rows) {
       if (row.rfind("| " + claim.row, 0) == 0) found.push_back(&row);
     }
-    ASSERT_EQ(found.size(), 1u) << "the README's table needs exactly one row starting '| " << claim.row << "'";
+    ASSERT_EQ(found.size(), 1u) << "docs/validation.md's table needs exactly one row starting '| " << claim.row << "'";
     for (const std::string& snippet : claim.snippets) {
       EXPECT_NE(found.front()->find(snippet), std::string::npos) << "the row should say '" << snippet << "':\n" << *found.front();
     }
   }
 }
 
-// The formatting itself, on values whose text is known.
+// The formatting itself, on values whose text is known (the test keeps its ReadmeClaims name).
 TEST(ReadmeClaims, BoundsAreWrittenAsTheReadmeWritesThem) {
   EXPECT_EQ(fraction(0.0), "exact (0)");
   EXPECT_EQ(fraction(0.001), "≤ 0.1%");

@@ -1,6 +1,6 @@
 // Shadow maps against the Embree reference on the built-in scenes: close on the courtyard at a
 // 2048^2 map, clearly wrong on sub-texel wires (the case the hybrid methods exist for), and
-// correct across the faces of a cube map. Bounds are stated here and in the README.
+// correct across the faces of a cube map. Bounds are stated here and in docs/validation.md.
 #include <set>
 
 #include <gtest/gtest.h>
