@@ -16,6 +16,7 @@
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "raytrace/ntree_builder.h"
 
 namespace penumbra {
@@ -258,13 +259,16 @@ std::vector<std::string> splitList(const std::string& list) {
 
 std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std::string>& methods) {
   const std::vector<std::string> tracers = c.tracer.empty() ? std::vector<std::string>{"auto"} : splitList(c.tracer);
-  const std::vector<std::string> shadowTracers{"auto", "bvh", "rq", "embree", "ls"};
+  std::vector<std::string> shadowTracers = tracerNames();
+  shadowTracers.insert(shadowTracers.begin(), "auto");
+  std::string shadowTracerList;
+  for (const std::string& t : shadowTracers) shadowTracerList += (shadowTracerList.empty() ? "" : ", ") + t;
   std::vector<std::string> out;
   for (const std::string& m : methods) {
     if (methodTerm(m) == Term::Shadow) {  // unknown names fail here, before any work
       if (tracers.size() != 1 || std::find(shadowTracers.begin(), shadowTracers.end(), tracers[0]) == shadowTracers.end()) {
         throw InputError("--tracer '" + c.tracer + "': method " + m +
-                         " takes one tracer of auto, bvh, rq, embree or ls (lists are for ao and indirect)");
+                         " takes one tracer of " + shadowTracerList + " (lists are for ao and indirect)");
       }
       out.push_back(m);
     } else if (m == "ao" || m == "indirect") {

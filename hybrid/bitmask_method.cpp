@@ -11,6 +11,7 @@
 
 #include "core/planar_receivers.h"
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 #include "raster/bitmask_pass.h"
 #include "shared/compact.h"
@@ -198,6 +199,8 @@ class BitmaskMethod final : public Method {
 
 }  // namespace
 
-std::unique_ptr<Method> makeBitmaskMethod() { return std::make_unique<BitmaskMethod>(); }
+void register_bitmask_method(Registry& r) {
+  r.method("bitmask", [] { return std::make_unique<BitmaskMethod>(); });
+}
 
 }  // namespace penumbra

@@ -12,6 +12,7 @@
 
 #include "core/units.h"
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 #include "raytrace/scene_triangles.h"
 
@@ -131,8 +132,13 @@ const char* termName(Term term) {
   return "shadow";
 }
 
-std::unique_ptr<Method> makeIndirectMethod(Term term, const std::string& tracer) {
-  return std::make_unique<IndirectMethod>(term, tracer);
+// ao and indirect on settings.indirect.tracer; ao-<tracer> and indirect-<tracer> on that tracer
+// (embree: the reference).
+void register_indirect_method(Registry& r) {
+  r.method("ao", [] { return std::make_unique<IndirectMethod>(Term::Ao, ""); });
+  r.method("indirect", [] { return std::make_unique<IndirectMethod>(Term::Indirect, ""); });
+  r.methodFamily("ao-", [](const std::string& tracer) { return std::make_unique<IndirectMethod>(Term::Ao, tracer); });
+  r.methodFamily("indirect-", [](const std::string& tracer) { return std::make_unique<IndirectMethod>(Term::Indirect, tracer); });
 }
 
 }  // namespace penumbra

@@ -1,6 +1,6 @@
 // A method fills the per-pixel visibility buffer (fraction of light visible, 0..1) for one frame
 // and reports what it did. Methods compose the shared passes the Renderer owns; each lives in its
-// own file, and the registry only maps names to factories.
+// own file, which registers it by name (hybrid/registry.h).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -46,15 +46,6 @@ std::unique_ptr<Method> makeMethod(const std::string& name);  // InputError for 
 Term methodTerm(const std::string& name);                      // makeMethod(name)->term()
 std::vector<std::string> methodNames();
 
-// Factories, one per method file.
-enum class ShadowMapFilter { None, Pcf, Pcss };
-std::unique_ptr<Method> makeShadowMapMethod(ShadowMapFilter filter);  // sm (None), pcf (Pcf), pcss (Pcss)
-std::unique_ptr<Method> makeMultiMapMethod();  // msm: average of settings.msmMaps light-sample maps
-std::unique_ptr<Method> makeReferenceMethod();              // ref: Embree, every covered pixel
-// srt (selective = true), frt; `tracer` overrides the settings' tracer (method ls: frt on "ls")
-std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer = {});
-std::unique_ptr<Method> makeBitmaskMethod();  // bitmask: visibility sampling on a planar receiver
-// ao and indirect (term Ao or Indirect) on `tracer` (empty: settings.indirect.tracer; embree: the reference)
-std::unique_ptr<Method> makeIndirectMethod(Term term, const std::string& tracer = {});
+// Each method file registers its methods by name (hybrid/registry.h).
 
 }  // namespace penumbra

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 
 namespace penumbra {
@@ -100,6 +101,8 @@ class MultiMapMethod final : public Method {
 
 }  // namespace
 
-std::unique_ptr<Method> makeMultiMapMethod() { return std::make_unique<MultiMapMethod>(); }
+void register_multi_map_method(Registry& r) {
+  r.method("msm", [] { return std::make_unique<MultiMapMethod>(); });
+}
 
 }  // namespace penumbra

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 
 namespace penumbra {
@@ -42,6 +43,8 @@ class ReferenceMethod final : public Method {
 
 }  // namespace
 
-std::unique_ptr<Method> makeReferenceMethod() { return std::make_unique<ReferenceMethod>(); }
+void register_reference_method(Registry& r) {
+  r.method("ref", [] { return std::make_unique<ReferenceMethod>(); });
+}
 
 }  // namespace penumbra

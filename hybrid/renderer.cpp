@@ -8,6 +8,7 @@
 #include "core/gpu_light.h"
 #include "core/units.h"
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "shared/compact.h"
 #include "shared/trace.h"
 
@@ -133,79 +134,43 @@ const NTreeCandidateTracer& Renderer::ntreeCandidateTracer(FrameStats& stats) {
   return *ntreeLs_;
 }
 
-const EmbreeTracer& Renderer::embree(FrameStats& stats) {
-  if (!embree_) embree_ = std::make_unique<EmbreeTracer>(scene_);
-  stats.setupMs["embree_build"] = embree_->buildMs();  // one-time, reported with every frame that uses it
-  return *embree_;
-}
+const EmbreeTracer& Renderer::embree(FrameStats& stats) { return static_cast<EmbreeTracer&>(tracer(stats, "embree")); }
 
 std::string Renderer::resolveTracer(const gpu::Context& context, const std::string& name) {
   return name == "auto" ? defaultTracer(context) : name;
 }
 
 ShadowTracer& Renderer::tracer(FrameStats& stats, const std::string& name) {
-  const std::string tracer = resolveTracer(context_, name.empty() ? settings_.tracer : name);
-  if (tracer == "embree") return const_cast<EmbreeTracer&>(embree(stats));
-  if (tracer == "ls") {
-    if (!lineSpace_) lineSpace_ = std::make_unique<LineSpaceTracer>(context_, scene_, settings_.lineSpace);
-    stats.setupMs["linespace_build"] = lineSpace_->stats().buildMs;
-    const LineSpaceStats& ls = lineSpace_->stats();
-    stats.memoryBytes["linespace"] = ls.bytes;
-    char note[200];
-    std::snprintf(note, sizeof(note),
-                  "line space (N=%u, d=%u, %s shadows): %llu subdivided nodes, %.1f MB, build %.0f ms (tree %.0f, bits "
-                  "%.0f), %.1f%% bits set",
-                  ls.n, ls.depth, shadowsName(settings_.lineSpace.shadows), (unsigned long long)ls.nodes, double(ls.bytes) / 1e6, ls.buildMs, ls.treeMs,
-                  ls.lineSpaceMs, 100.0 * ls.filledFraction);
-    stats.notes.push_back(note);
-    if (ls.exactBytes() > 0) {
-      std::snprintf(note, sizeof(note),
-                    "line space exact shadows: %llu leaf cells, %llu triangle references, %.1f MB of it (leaf groups "
-                    "%.1f, leaves %.1f, lists %.1f, triangles %.1f)",
-                    (unsigned long long)ls.leaves, (unsigned long long)ls.leafTriangleRefs, double(ls.exactBytes()) / 1e6,
-                    double(ls.leafGroupBytes) / 1e6, double(ls.leafBytes) / 1e6, double(ls.leafTriangleBytes) / 1e6,
-                    double(ls.triangleBytes) / 1e6);
-      stats.notes.push_back(note);
-    }
-    if (const SceneAccelerationStructures* moving = lineSpace_->movingStructures()) {
-      stats.memoryBytes["acceleration_structures"] = moving->stats().bytes;
-      stats.notes.push_back("line space: moving meshes traced with ray queries");
-    }
-    return *lineSpace_;
-  }
-  if (tracer == "rq") {
-    if (!rayQuery_) rayQuery_ = std::make_unique<RayQueryTracer>(context_, scene_);
-    const AccelerationStats& as = rayQuery_->stats();
-    stats.setupMs["rq_build"] = as.buildMs;
-    stats.memoryBytes["acceleration_structures"] = as.bytes;
-    char note[200];
-    std::snprintf(note, sizeof(note),
-                  "ray queries: %u bottom-level structures, %.1f MB (static ones compacted from %.1f MB), build %.0f ms",
-                  as.bottomLevels, double(as.bytes) / 1e6, double(as.uncompactedBytes) / 1e6, as.buildMs);
-    stats.notes.push_back(note);
-    return *rayQuery_;
-  }
-  if (tracer != "bvh") throw InputError("unknown tracer '" + tracer + "'; use auto, bvh, rq, embree or ls");
-  if (!bvh_) bvh_ = std::make_unique<BvhTracer>(context_, scene_);
-  stats.setupMs["bvh_build"] = bvh_->stats().buildMs;
-  stats.memoryBytes["bvh"] = bvh_->stats().bytes;
-  return *bvh_;
+  const std::string resolvedName = resolveTracer(context_, name.empty() ? settings_.tracer : name);
+  const TracerEntry& entry = tracerEntry(resolvedName);  // InputError for unknown names
+  auto it = tracers_.find(resolvedName);
+  if (it == tracers_.end()) it = tracers_.emplace(resolvedName, entry.make(context_, scene_, settings_)).first;
+  entry.report(*it->second, settings_, stats);
+  return *it->second;
 }
 
 void Renderer::sceneMoved() {
   ++sceneVersion_;
   geometry_.update(scene_);
-  embree_.reset();
   if (indirectPass_) indirectPass_->update(scene_);
   candidates_.reset();  // one tree over every mesh: built again on next use
-  // The built tracers refit (or rebuild) their dynamic BVHs; frames report the GPU BVH's update,
-  // else the line space's (both hold the same tree over the same triangles).
+  // The built tracers refit (or rebuild) their dynamic BVHs; frames report the first one's update
+  // by name (bvh before ls before rq; all hold the same tree over the same triangles), else the
+  // N-trees'. A tracer that cannot refit (embree) is built again on next use.
   std::optional<BvhRefitReport> traced;
-  if (ntree_) traced = ntree_->update(scene_);  // static line spaces stay; the moving BVHs refit
-  if (ntreeLs_) traced = ntreeLs_->update(scene_);
-  if (lineSpace_) traced = lineSpace_->update(scene_);
-  if (rayQuery_) traced = rayQuery_->update(scene_);
-  if (bvh_) traced = bvh_->update(scene_);
+  for (auto it = tracers_.begin(); it != tracers_.end();) {
+    const std::optional<BvhRefitReport> report = it->second->sceneMoved(scene_);
+    if (!traced) traced = report;
+    it = report ? std::next(it) : tracers_.erase(it);
+  }
+  if (ntreeLs_) {  // static line spaces stay; the moving BVHs refit
+    const BvhRefitReport report = ntreeLs_->update(scene_);
+    if (!traced) traced = report;
+  }
+  if (ntree_) {
+    const BvhRefitReport report = ntree_->update(scene_);
+    if (!traced) traced = report;
+  }
   refit_.reset();
   if (traced) {
     refit_ = FrameStats::Refit{traced->ms, traced->sah, traced->builtSah, traced->growth, traced->rebuilt, traced->rebuilds};

@@ -200,10 +200,7 @@ class Renderer {
   std::unique_ptr<raster::ThinTrianglePass> thin_;
   std::unique_ptr<raster::DepthPyramidPass> pyramid_;
   std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
-  std::unique_ptr<EmbreeTracer> embree_;
-  std::unique_ptr<BvhTracer> bvh_;
-  std::unique_ptr<RayQueryTracer> rayQuery_;
-  std::unique_ptr<LineSpaceTracer> lineSpace_;
+  std::map<std::string, std::unique_ptr<ShadowTracer>> tracers_;  // by name (hybrid/registry.h), built on first use
   std::unique_ptr<IndirectPass> indirectPass_;
   std::unique_ptr<CandidateTracer> candidates_;
   std::unique_ptr<LineSpaceTracer> ntree_;

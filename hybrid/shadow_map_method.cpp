@@ -2,10 +2,13 @@
 // centre (unfiltered for sm, the configured PCF kernel for pcf, blocker search + penumbra-sized PCF
 // for pcss). sm and pcf treat area lights as their centre; pcss uses the light's size.
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 
 namespace penumbra {
 namespace {
+
+enum class ShadowMapFilter { None, Pcf, Pcss };
 
 class ShadowMapMethod final : public Method {
  public:
@@ -38,6 +41,10 @@ class ShadowMapMethod final : public Method {
 
 }  // namespace
 
-std::unique_ptr<Method> makeShadowMapMethod(ShadowMapFilter filter) { return std::make_unique<ShadowMapMethod>(filter); }
+void register_shadow_map_method(Registry& r) {
+  r.method("sm", [] { return std::make_unique<ShadowMapMethod>(ShadowMapFilter::None); });
+  r.method("pcf", [] { return std::make_unique<ShadowMapMethod>(ShadowMapFilter::Pcf); });
+  r.method("pcss", [] { return std::make_unique<ShadowMapMethod>(ShadowMapFilter::Pcss); });
+}
 
 }  // namespace penumbra

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 #include "hybrid/renderer.h"
 #include "raytrace/bandwidth_model.h"
 #include "shared/compact.h"
@@ -162,8 +163,10 @@ class TracedMethod final : public Method {
 
 }  // namespace
 
-std::unique_ptr<Method> makeTracedMethod(bool selective, const std::string& tracer) {
-  return std::make_unique<TracedMethod>(selective, tracer);
+void register_traced_method(Registry& r) {
+  r.method("srt", [] { return std::make_unique<TracedMethod>(true, ""); });
+  r.method("frt", [] { return std::make_unique<TracedMethod>(false, ""); });
+  r.method("ls", [] { return std::make_unique<TracedMethod>(false, "ls"); });  // frt on the line-space tracer
 }
 
 }  // namespace penumbra

@@ -46,6 +46,7 @@ class BvhTracer final : public ShadowTracer {
   // dynamic part of both buffers. A no-op without dynamic meshes. Call it between frames (no
   // submission may read the buffers). Throws InputError when the dynamic meshes changed size.
   BvhRefitReport update(const Scene& scene);
+  std::optional<BvhRefitReport> sceneMoved(const Scene& scene) override { return update(scene); }
   // The uploaded BVH, host visible (for the bandwidth model): BvhNode and BvhTriangle arrays.
   const gpu::Buffer& nodeBuffer() const { return nodes_; }
   const gpu::Buffer& triangleBuffer() const { return triangles_; }

@@ -54,6 +54,7 @@ class EmbreeTracer final : public ShadowTracer {
   std::string name() const override { return "embree"; }
   void record(const vk::raii::CommandBuffer&, const TraceJob&) override {}
   TraceReport finish(const TraceJob& job) override;  // traces job.points on all cores
+  std::optional<BvhRefitReport> sceneMoved(const Scene&) override { return std::nullopt; }  // built anew on next use
 
  private:
   struct Impl;

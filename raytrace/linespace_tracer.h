@@ -58,6 +58,7 @@ class LineSpaceTracer final : public ShadowTracer {
   // The scene's dynamic meshes moved: refits (or rebuilds) their BVH and rewrites it; the line
   // space is not touched. A no-op without dynamic meshes; call it between frames.
   BvhRefitReport update(const Scene& scene);
+  std::optional<BvhRefitReport> sceneMoved(const Scene& scene) override { return update(scene); }
 
  private:
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, LineSpace lineSpace,

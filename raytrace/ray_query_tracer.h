@@ -30,6 +30,7 @@ class RayQueryTracer final : public ShadowTracer {
   const SceneAccelerationStructures& structures() const { return structures_; }
   // The moving meshes were posed anew: refits (or rebuilds) their structures and the top level.
   BvhRefitReport update(const Scene& scene) { return structures_.update(scene); }
+  std::optional<BvhRefitReport> sceneMoved(const Scene& scene) override { return update(scene); }
 
   // Traces `rays` now, as BvhTracer::traceRays (any-hit or closest-hit; a miss has t < 0).
   std::vector<shared::RayHit> traceRays(std::span<const shared::RayQuery> rays, bool anyHit);

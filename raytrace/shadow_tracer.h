@@ -7,8 +7,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/scene.h"
 #include "gpu/pipeline.h"
 #include "gpu/resources.h"
+#include "raytrace/bvh_refit.h"
 #include "shared/frame.h"
 #include "shared/shading_point.h"
 #include "shared/trace.h"
@@ -76,6 +78,9 @@ class ShadowTracer {
   virtual void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) = 0;
   // After the submission completed: CPU tracers trace here; every tracer reports its counters.
   virtual TraceReport finish(const TraceJob& job) = 0;
+  // The scene's dynamic meshes moved: refit (or rebuild) what the tracer traces and report it, or
+  // nullopt where it cannot follow them (its owner then builds it again on next use).
+  virtual std::optional<BvhRefitReport> sceneMoved(const Scene& scene) = 0;
 };
 
 }  // namespace penumbra

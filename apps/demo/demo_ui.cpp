@@ -8,11 +8,11 @@
 
 #include "hybrid/indirect_pass.h"
 #include "hybrid/method.h"
+#include "hybrid/registry.h"
 
 namespace penumbra::demo {
 namespace {
 
-constexpr std::array<const char*, 5> kTracers = {"auto", "bvh", "rq", "embree", "ls"};
 constexpr std::array<int, 6> kSpp = {1, 4, 8, 16, 32, 64};
 constexpr std::array<int, 6> kMapRes = {256, 512, 1024, 2048, 4096, 8192};
 constexpr std::array<LightType, 5> kLightTypes = {LightType::Point, LightType::Spot, LightType::Directional,
@@ -62,11 +62,13 @@ void controls(DemoSession& session, UiState& state) {
   bool settingsChanged = false;
   // Shadow methods pick the shadow tracer; ao and indirect theirs (bvh, bvh-ls, ... and embree).
   const bool indirect = session.term() != Term::Shadow;
-  std::vector<const char*> tracers(kTracers.begin(), kTracers.end());
-  if (indirect) {
-    tracers.clear();
-    for (const std::string& t : indirectTracers()) tracers.push_back(t.c_str());
-  }
+  static const std::vector<std::string> shadowTracers = [] {
+    std::vector<std::string> names = tracerNames();
+    names.insert(names.begin(), "auto");
+    return names;
+  }();
+  std::vector<const char*> tracers;
+  for (const std::string& t : indirect ? indirectTracers() : shadowTracers) tracers.push_back(t.c_str());
   std::string& chosen = indirect ? settings.indirect.tracer : settings.tracer;
   int tracer = 0;
   for (std::size_t i = 0; i < tracers.size(); ++i) {
