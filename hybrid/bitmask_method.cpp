@@ -12,7 +12,7 @@
 #include "core/planar_receivers.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 #include "raster/bitmask_pass.h"
 #include "shared/compact.h"
 
@@ -23,7 +23,7 @@ class BitmaskMethod final : public Method {
  public:
   bool sharedSamplePattern() const override { return true; }
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     const shared::GpuLight& light = r.frameData().light;
     if (!shared::isAreaLight(light)) {
       throw InputError("method bitmask samples an area light; give the light a size (--light-size > 0, rect or disk)");
@@ -69,12 +69,12 @@ class BitmaskMethod final : public Method {
     if (!table_) table_ = std::make_unique<raster::BitmaskTable>(r.context());
     while (passes_.size() < frames.size()) passes_.push_back(std::make_unique<raster::BitmaskPass>(r.context(), settings.resolution));
     ShadowTracer& tracer = r.tracer(stats);
-    const TraceJob job = r.traceJob(false);
+    const TraceJob job = r.traceJob(tracer, TraceList::Flagged);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
       if (srt) {  // the map, the classification, the mask
         r.recordShadowMap(cmd, stats);
-        r.recordClassify(cmd, stats, false);  // the resolves clear the receivers' flags: no list yet
+        r.recordClassify(cmd, stats);  // the resolves clear the receivers' flags: no list yet
       } else {
         r.recordUnclassified(cmd);
       }
@@ -85,7 +85,7 @@ class BitmaskMethod final : public Method {
                            r.traceFlags());
       }
       r.timer().end(cmd);
-      r.recordCompact(cmd, COMPACT_FLAGGED);
+      r.recordTraceList(cmd, TraceList::Flagged, stats);
       r.timer().begin(cmd, "trace");
       tracer.record(cmd, job);
       r.timer().end(cmd);
@@ -110,7 +110,7 @@ class BitmaskMethod final : public Method {
  private:
   // The receiver's map and the light as the shaders take them; none when the light reaches down
   // to the receiver's plane.
-  static std::optional<shared::BitmaskFrame> frameFor(Renderer& r, const shared::GpuLight& light, PlanarReceiver rec) {
+  static std::optional<shared::BitmaskFrame> frameFor(FrameContext& r, const shared::GpuLight& light, PlanarReceiver rec) {
     const glm::vec3 centre(light.position);
     if (!rec.heightField && glm::dot(rec.normal, centre) + rec.offset < 0.0f) {  // the map's side is the light's
       rec.normal = -rec.normal;
@@ -182,7 +182,7 @@ class BitmaskMethod final : public Method {
   }
 
   // A height field's mesh alone, uploaded for its height pass; null for a plane.
-  static std::unique_ptr<raster::SceneGeometry> fieldGeometry(Renderer& r, const PlanarReceiver& receiver) {
+  static std::unique_ptr<raster::SceneGeometry> fieldGeometry(FrameContext& r, const PlanarReceiver& receiver) {
     if (!receiver.heightField) return nullptr;
     Scene field;
     for (const Mesh& mesh : r.scene().meshes) {

@@ -1,7 +1,7 @@
 // Methods ao and indirect (Keul et al. 2018's indirect rays): the direct light as sm gives it
 // (camera pass, light pass, shadow-map lookup), then K cosine-weighted rays per covered pixel
 // (shared/indirect.h) on the chosen tracer for ambient occlusion (`ao`) or one-bounce diffuse
-// light (`indirect`), into Renderer::indirect(), which the shading pass adds. On tracer embree
+// light (`indirect`), into FrameContext::indirect(), which the shading pass adds. On tracer embree
 // the same rays are traced on the CPU: the reference the others are compared with. Tracers: bvh
 // and rq (exact), bvh-ls (BVH + candidate line spaces), ntree (the N-tree's line space in exact
 // mode: exact), ntree-ls (N-tree + candidate line spaces; its hits' shadow rays on the binary line space).
@@ -13,7 +13,7 @@
 #include "core/units.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 #include "raytrace/scene_triangles.h"
 
 namespace penumbra {
@@ -26,7 +26,7 @@ class IndirectMethod final : public Method {
   bool readsShadowMap() const override { return true; }
   std::uint32_t samplesPerPixel(const RenderSettings& settings) const override { return settings.indirect.rays; }
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     const RenderSettings& s = r.settings();
     const std::string tracer = tracer_.empty() ? s.indirect.tracer : tracer_;
     const float radius = r.bounds().radius();
@@ -69,7 +69,7 @@ class IndirectMethod final : public Method {
 
  private:
   // The camera pass, the light pass and sm's lookup: the direct light's visibility.
-  static void recordDirect(Renderer& r, const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+  static void recordDirect(FrameContext& r, const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
     r.recordGBuffer(cmd);
     r.recordShadowMap(cmd, stats);
     r.timer().begin(cmd, "lookup");
@@ -88,7 +88,7 @@ class IndirectMethod final : public Method {
     stats.counts["shadow_rays"] = shadowRays;
   }
 
-  void runReference(Renderer& r, FrameStats& stats, const shared::IndirectParams& params) {
+  void runReference(FrameContext& r, FrameStats& stats, const shared::IndirectParams& params) {
     const EmbreeTracer& embree = r.embree(stats);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       recordDirect(r, cmd, stats);

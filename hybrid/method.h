@@ -1,5 +1,5 @@
 // A method fills the per-pixel visibility buffer (fraction of light visible, 0..1) for one frame
-// and reports what it did. Methods compose the shared passes the Renderer owns; each lives in its
+// and reports what it did. Methods compose the shared passes of the FrameContext; each lives in its
 // own file, which registers it by name (hybrid/registry.h).
 #pragma once
 #include <cstdint>
@@ -13,11 +13,11 @@
 
 namespace penumbra {
 
-class Renderer;
+class FrameContext;
 struct RenderSettings;
 
 // What a method's frame holds: the shadow term (visibility), or, for methods ao and indirect, the
-// ambient occlusion or one-bounce light they add to the direct light (Renderer::indirect()).
+// ambient occlusion or one-bounce light they add to the direct light (FrameContext::indirect()).
 enum class Term { Shadow, Ao, Indirect };
 const char* termName(Term term);
 
@@ -25,15 +25,15 @@ class Method {
  public:
   virtual ~Method() = default;
   // Leaves the frame's visibility in renderer.visibility() and records passes into stats.
-  virtual void run(Renderer& renderer, FrameStats& stats) = 0;
+  virtual void run(FrameContext& renderer, FrameStats& stats) = 0;
   // Records what works on the finished visibility, in the shading pass's submission, before it.
-  virtual void recordBeforeShade(Renderer&, const vk::raii::CommandBuffer&, FrameStats&) {}
+  virtual void recordBeforeShade(FrameContext&, const vk::raii::CommandBuffer&, FrameStats&) {}
   // What the shared frame data must say for this method.
   virtual std::uint32_t shadowFilter(const RenderSettings&) const { return 0; }  // FILTER_NONE
   virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;
   // Methods that run PIP classification expose its flags and sm answer in the Frame.
   virtual bool classifies() const { return false; }
-  // Methods that look up the light's centre map (Renderer::recordShadowMap): the Renderer may fit
+  // Methods that look up the light's centre map (FrameContext::recordShadowMap): the Renderer may fit
   // that map to the view first (RenderSettings::fitLightToView).
   virtual bool readsShadowMap() const { return false; }
   // Methods whose pixels all use one light-sample pattern (GpuLight::sharedPattern): every method

@@ -19,7 +19,7 @@
 
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {
@@ -41,7 +41,7 @@ class MultiMapMethod final : public Method {
 
   bool readsShadowMap() const override { return true; }  // for point-like lights (below)
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     const shared::FrameData& centre = r.frameData();
     // A point-like light has one sample point, the centre: one map, which is exactly sm's.
     const std::uint32_t k = shared::isAreaLight(centre.light) ? std::max(r.settings().msmMaps, 1u) : 1u;

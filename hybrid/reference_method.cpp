@@ -5,7 +5,7 @@
 
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {
@@ -16,7 +16,7 @@ class ReferenceMethod final : public Method {
     return settings.referenceSpp > 0 ? settings.referenceSpp : settings.spp;
   }
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     const EmbreeTracer& tracer = r.embree(stats);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);

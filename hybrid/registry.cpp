@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 

@@ -48,7 +48,7 @@ class Registry {
 
 const Registry& registry();  // everything registered, sorted by name
 
-// The shadow tracers, sorted by name ("auto" is not one: Renderer::resolveTracer maps it).
+// The shadow tracers, sorted by name ("auto" is not one: FrameContext::resolveTracer maps it).
 std::vector<std::string> tracerNames();
 // InputError for an unknown name, listing the known ones.
 const TracerEntry& tracerEntry(const std::string& name);

@@ -3,7 +3,7 @@
 // for pcss). sm and pcf treat area lights as their centre; pcss uses the light's size.
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {
@@ -25,7 +25,7 @@ class ShadowMapMethod final : public Method {
   std::uint32_t samplesPerPixel(const RenderSettings&) const override { return 1; }
   bool readsShadowMap() const override { return true; }
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
       r.recordShadowMap(cmd, stats);

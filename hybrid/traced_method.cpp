@@ -13,7 +13,7 @@
 
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 #include "raytrace/bandwidth_model.h"
 #include "shared/compact.h"
 #include "shared/trace.h"
@@ -23,7 +23,7 @@ namespace {
 
 // --simulate-bandwidth: the trace kernel's memory traffic, replayed on the CPU, and the estimate
 // for the passes before it (raytrace/bandwidth_model.h). Only the bvh tracer's kernel is modelled.
-void simulateBandwidth(Renderer& r, const ShadowTracer& tracer, const TraceJob& job, bool selective, FrameStats& stats) {
+void simulateBandwidth(FrameContext& r, const ShadowTracer& tracer, const TraceJob& job, bool selective, FrameStats& stats) {
   const auto* bvh = dynamic_cast<const BvhTracer*>(&tracer);
   if (!bvh) {
     stats.notes.push_back("--simulate-bandwidth models the bvh tracer's kernel only; " + tracer.name() + " was not simulated");
@@ -56,7 +56,7 @@ class TracedMethod final : public Method {
   bool classifies() const override { return classified_; }
   bool readsShadowMap() const override { return selective_; }
 
-  void run(Renderer& r, FrameStats& stats) override {
+  void run(FrameContext& r, FrameStats& stats) override {
     ShadowTracer& tracer = r.tracer(stats, tracerName_);
     if (!selective_) {
       trace(r, tracer, false, stats);
@@ -72,19 +72,13 @@ class TracedMethod final : public Method {
  private:
   // One path of the frame: the paper's (light pass, classification, trace of the doubtful pixels)
   // or every covered pixel traced.
-  void trace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
-    const bool inPlace = !classify && r.canTraceInPlace(tracer);
-    const TraceJob& job = lastJob_.emplace(r.traceJob(inPlace));
+  void trace(FrameContext& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+    const TraceList list = classify ? TraceList::Doubtful : TraceList::EveryCovered;
+    const TraceJob& job = lastJob_.emplace(r.traceJob(tracer, list));
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
       r.recordGBuffer(cmd);
-      if (classify) {
-        r.recordShadowMap(cmd, stats);
-        if (!r.recordClassify(cmd, stats)) r.recordCompact(cmd, COMPACT_FLAGGED);
-      } else {
-        r.recordUnclassified(cmd);
-        if (inPlace) r.recordInPlaceCount(cmd);
-        else r.recordCompact(cmd, COMPACT_ALL_COVERED);
-      }
+      if (classify) r.recordShadowMap(cmd, stats);
+      r.recordTraceList(cmd, list, stats);
       r.timer().begin(cmd, "trace");
       tracer.record(cmd, job);
       r.timer().end(cmd);
@@ -95,7 +89,7 @@ class TracedMethod final : public Method {
 
   // trace(), timed: its wall time (the device's passes and a CPU tracer's trace, which no GPU
   // timestamp sees: Embree) less the camera pass, which both paths share.
-  double timedTrace(Renderer& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+  double timedTrace(FrameContext& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
     const std::size_t passesBefore = r.timer().passCount();
     const auto start = std::chrono::steady_clock::now();
     trace(r, tracer, classify, stats);
@@ -114,7 +108,7 @@ class TracedMethod final : public Method {
   // pays the first touch of its buffers: +35% at 1024^2), the classify path last, so that the
   // frame's result is the paper's; every kRemeasureFrames frames the other path runs once more,
   // as views and content change.
-  void choose(Renderer& r, ShadowTracer& tracer, FrameStats& stats) {
+  void choose(FrameContext& r, ShadowTracer& tracer, FrameStats& stats) {
     constexpr std::uint64_t kRemeasureFrames = 32;
     if (!classifyMs_ || !traceAllMs_) {
       for (int run = 0; run < 2; ++run) {
@@ -137,7 +131,7 @@ class TracedMethod final : public Method {
   }
 
   // The denoiser over this method's visibility (its own history: one pass per method object).
-  void denoise(Renderer& r, FrameStats& stats) {
+  void denoise(FrameContext& r, FrameStats& stats) {
     const RenderSettings& s = r.settings();
     if (!denoiser_) denoiser_ = std::make_unique<DenoisePass>(r.context(), s.width, s.height);
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {

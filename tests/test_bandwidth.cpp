@@ -217,14 +217,14 @@ void expectReplayMatchesKernel(SceneRun& run, const Frame& frame) {
 
   // Replay directly and compare the answers point by point with the visibility the kernel wrote.
   FrameStats scratch;
-  const auto& tracer = dynamic_cast<const BvhTracer&>(run.renderer->tracer(scratch));
-  const TraceJob job = run.renderer->traceJob();
+  const auto& tracer = dynamic_cast<const BvhTracer&>(run.renderer->frameContext().tracer(scratch));
+  const TraceJob job = run.renderer->frameContext().traceJob(tracer, TraceList::Doubtful);  // the srt frame's list
   const std::uint32_t count = job.count.download<shared::TraceCount>(1).front().count;
   const auto points = job.points.download<shared::ShadingPoint>(count);
   const auto nodes = tracer.nodeBuffer().download<shared::BvhNode>(tracer.nodeBuffer().size() / sizeof(shared::BvhNode));
   const auto tris = tracer.triangleBuffer().download<shared::BvhTriangle>(tracer.triangleBuffer().size() / sizeof(shared::BvhTriangle));
   std::vector<float> visibility;
-  const BandwidthReport direct = simulateTraceBandwidth(nodes, tris, points, run.renderer->frameData().light,
+  const BandwidthReport direct = simulateTraceBandwidth(nodes, tris, points, run.renderer->frameContext().frameData().light,
                                                         bandwidthSettingsFor(validatedContext().deviceName()), &visibility);
   EXPECT_EQ(direct.nodeVisits, *frame.stats.nodeVisits);
   std::size_t differing = 0;

@@ -111,7 +111,7 @@ Compared compareWithReference(const Light& light, std::uint32_t spp, const std::
   SceneRun run(bitmaskScene(), settings);
   const Frame reference = run.renderer->render("ref", run.camera, light);
   const Frame bitmask = run.renderer->render("bitmask", run.camera, light);
-  const auto positions = run.renderer->gbuffer().positions();
+  const auto positions = run.renderer->frameContext().gbuffer().positions();
   Compared c;
   double squares = 0.0;
   std::size_t wrong = 0;
@@ -318,7 +318,7 @@ TEST(Bitmask, DecorrelationBringsFewSamplesCloserToTheConvergedAnswer) {
     SceneRun run(bitmaskScene(), settings);
     const Frame reference = run.renderer->render("ref", run.camera, light);
     const Frame bitmask = run.renderer->render("bitmask", run.camera, light);
-    const auto positions = run.renderer->gbuffer().positions();
+    const auto positions = run.renderer->frameContext().gbuffer().positions();
     double squares = 0.0;
     std::size_t n = 0;
     for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -416,7 +416,7 @@ TEST(Bitmask, HeightFieldReceiverMatchesTheReference) {
   SceneRun run(std::move(scene), settings);
   const Frame reference = run.render("ref");
   const Frame bitmask = run.render("bitmask");
-  const auto positions = run.renderer->gbuffer().positions();
+  const auto positions = run.renderer->frameContext().gbuffer().positions();
   std::size_t onTerrain = 0, wrong = 0;
   double squares = 0.0;
   for (std::size_t i = 0; i < positions.size(); ++i) {

@@ -389,7 +389,7 @@ TEST(DynamicBvh, LineSpaceTracesTheMovedSphereWithoutRebuilding) {
   const Frame refBefore = renderer.render("ref", camera, light);
   const Frame lsBefore = renderer.render("ls", camera, light);
   FrameStats scratch;
-  const auto* tracer = &dynamic_cast<LineSpaceTracer&>(renderer.tracer(scratch, "ls"));
+  const auto* tracer = &dynamic_cast<LineSpaceTracer&>(renderer.frameContext().tracer(scratch, "ls"));
   const LineSpaceStats statsBefore = tracer->stats();
   EXPECT_GT(statsBefore.dynamicBvhBytes, 0u);
   EXPECT_EQ(statsBefore.bytes,
@@ -421,7 +421,7 @@ TEST(DynamicBvh, LineSpaceTracesTheMovedSphereWithoutRebuilding) {
   // start-node skip, on at most 1% of the covered pixels.
   EXPECT_LE(double(brighter), 0.01 * double(covered));
   // The same line space: not rebuilt, same pools.
-  EXPECT_EQ(&dynamic_cast<LineSpaceTracer&>(renderer.tracer(scratch, "ls")), tracer);
+  EXPECT_EQ(&dynamic_cast<LineSpaceTracer&>(renderer.frameContext().tracer(scratch, "ls")), tracer);
   EXPECT_EQ(tracer->stats().bytes, statsBefore.bytes);
   EXPECT_EQ(tracer->stats().buildMs, statsBefore.buildMs);
   ASSERT_TRUE(ls.stats.refit.has_value());

@@ -165,7 +165,7 @@ TEST(Indirect, BounceOffALitWallIsItsFormFactor) {
   const std::vector<glm::dvec3> wallCorners{{0, 0, -halfWidth}, {0, height, -halfWidth}, {0, height, halfWidth}, {0, 0, halfWidth}};
   for (const char* method : {"indirect-bvh", "indirect-embree"}) {
     const Frame f = run.render(method);
-    const auto positions = run.renderer->gbuffer().positions();
+    const auto positions = run.renderer->frameContext().gbuffer().positions();
     double worst = 0.0, bias = 0.0;
     std::size_t n = 0;
     for (std::size_t i = 0; i < positions.size(); ++i) {

@@ -65,7 +65,7 @@ TEST(KnownAnswer, SquareSceneMatchesTheStatedGeometry) {
 TEST(KnownAnswer, ReferenceMatchesAnalyticShadow) {
   SceneRun run("builtin:square", smallSettings(256, 2048));
   const Frame frame = run.render("ref");
-  const Disagreement d = againstAnalytic(frame, run.renderer->gbuffer().positions());
+  const Disagreement d = againstAnalytic(frame, run.renderer->frameContext().gbuffer().positions());
   EXPECT_GT(d.shadowed, 500) << "the shadow must be in view";
   EXPECT_EQ(d.occluderWrong, 0);
   // Only pixels whose shading point is within float noise of the edge may differ.
@@ -78,7 +78,7 @@ TEST(KnownAnswer, ShadowMapWithinATexelOfAnalyticShadow) {
     RenderSettings settings = smallSettings(256, res);
     SceneRun run("builtin:square", settings);
     const Frame frame = run.render("sm");
-    const Disagreement d = againstAnalytic(frame, run.renderer->gbuffer().positions());
+    const Disagreement d = againstAnalytic(frame, run.renderer->frameContext().gbuffer().positions());
     const Bounds bounds = run.scene.bounds();
     const float texel = raster::makeShadowMapInfo(toGpuLight(run.light, bounds), bounds, settings.shadowMap).texelWorld;
     // A texel seen on the horizontal occluder plane is texel / cos(angle to vertical) wide; allow
@@ -101,10 +101,10 @@ TEST(KnownAnswer, PcfTapsMatchTheSquaresAnalyticShadow) {
   settings.pcfFilter = FILTER_PCF3;
   SceneRun run("builtin:square", settings);
   const Frame pcf = run.render("pcf");
-  const shared::ShadowMapInfo& map = run.renderer->frameData().shadow;
+  const shared::ShadowMapInfo& map = run.renderer->frameContext().frameData().shadow;
   ASSERT_EQ(map.kind, SHADOW_ORTHO);
   const glm::mat4 toWorld = glm::inverse(map.viewProj[0]);
-  const auto positions = run.renderer->gbuffer().positions();
+  const auto positions = run.renderer->frameContext().gbuffer().positions();
   const int res = int(map.resolution);
   auto occluderOnTexel = [&](glm::ivec2 t) {
     const glm::vec2 ndc = (glm::vec2(t) + 0.5f) / float(res) * 2.0f - 1.0f;
@@ -158,7 +158,7 @@ TEST(KnownAnswer, SoftBaselinesApproachTheSquaresExactPenumbra) {
   run.light = Light{.type = LightType::Rect, .position = {0, lightHeight, 0}, .direction = {0, -1, 0}, .size = lightSide};
   const auto positions = [&] {
     run.render("sm");
-    return run.renderer->gbuffer().positions();
+    return run.renderer->frameContext().gbuffer().positions();
   }();
   for (const char* method : {"pcss", "msm"}) {
     const Frame f = run.render(method);

@@ -43,7 +43,7 @@ MaskRun maskRun(const std::string& spec, float size, std::uint32_t pixels, const
 }
 MaskRun maskRun(SceneRun& run, float size) {
   const std::string spec = run.scene.name;
-  const std::uint32_t pixels = run.renderer->settings().width;
+  const std::uint32_t pixels = run.renderer->frameContext().settings().width;
   MaskRun r;
   run.light.size = 0.0f;
   r.hard = run.render("srt");

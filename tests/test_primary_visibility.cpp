@@ -11,7 +11,7 @@ namespace {
 double agreement(const std::string& spec, std::uint32_t size) {
   SceneRun run(spec, smallSettings(size, 256));
   run.render("sm");
-  const std::vector<glm::vec4> raster = run.renderer->gbuffer().positions();
+  const std::vector<glm::vec4> raster = run.renderer->frameContext().gbuffer().positions();
   EmbreeTracer embree(run.scene);
   const Bounds bounds = run.scene.bounds();
   const auto hits = embree.tracePrimary(cameraMatrices(run.camera, bounds, int(size), int(size)), int(size), int(size));

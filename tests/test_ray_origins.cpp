@@ -39,7 +39,7 @@ TEST(RayOrigins, CameraSeesTheDecalAHairAboveItsSurface) {
   const Light light{.type = LightType::Disk, .position = {-3, 12, 4}, .direction = glm::normalize(glm::vec3(3, -12, -4))};
 
   const Frame ref = renderer.render("ref", camera, light);
-  const std::vector<glm::vec4> positions = renderer.gbuffer().positions();
+  const std::vector<glm::vec4> positions = renderer.frameContext().gbuffer().positions();
   std::size_t inside = 0, decalSeen = 0, lit = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const glm::vec4 p = positions[i];

@@ -79,7 +79,7 @@ TEST(SceneAccuracy, CubeMapShadowsAcrossFaces) {
   const Bounds bounds = run.scene.bounds();
   const auto info = raster::makeShadowMapInfo(toGpuLight(run.light, bounds), bounds, settings.shadowMap);
   ASSERT_EQ(info.kind, SHADOW_CUBE);
-  const auto positions = run.renderer->gbuffer().positions();
+  const auto positions = run.renderer->frameContext().gbuffer().positions();
   std::set<std::uint32_t> facesWithShadow, facesWithSmShadow;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     if (!reference.covered[i]) continue;
@@ -114,7 +114,7 @@ TEST(SceneAccuracy, SpotLightMatchesReferenceAndDarkOutsideItsCone) {
   EXPECT_NE(messageOf([&] { run.render("bitmask"); }).find("area light"), std::string::npos);
   // Outside the cone both say 0; inside, both see lit ground.
   std::size_t outside = 0, litInside = 0;
-  const auto positions = run.renderer->gbuffer().positions();
+  const auto positions = run.renderer->frameContext().gbuffer().positions();
   for (std::size_t i = 0; i < positions.size(); ++i) {
     if (!reference.covered[i]) continue;
     const glm::vec3 toPoint = glm::normalize(glm::vec3(positions[i]) - run.light.position);

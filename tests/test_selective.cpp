@@ -310,7 +310,7 @@ TEST(SoftSelective, CornerMapsCatchEdgesTheCentreMapCannotSee) {
   };
   // The wall's own pixels straddle the light (in the centre pass's mask); its shadow on the ground
   // is what the centre's map cannot see.
-  const auto positions = one.gbuffer().positions();
+  const auto positions = one.frameContext().gbuffer().positions();
   std::size_t groundPenumbra = 0, missed1 = 0, missed5 = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     if (!frt.covered[i] || positions[i].y > 1e-3f || frt.visibility[i] <= 0.0f || frt.visibility[i] >= 1.0f) continue;
@@ -424,7 +424,7 @@ TEST(Selective, LayersAHairAboveTheReceiverAreTraced) {
 TEST(Selective, CubeMapDepthStepsStayBelowTheLayerTolerance) {
   SceneRun run("builtin:room", settingsFor(64));
   run.render("srt");
-  const shared::ShadowMapInfo& info = run.renderer->frameData().shadow;
+  const shared::ShadowMapInfo& info = run.renderer->frameContext().frameData().shadow;
   ASSERT_EQ(info.kind, SHADOW_CUBE);
   const float w = info.farPlane, near = info.nearPlane, far = info.farPlane;
   const float raw = far * (w - near) / (w * (far - near));  // NDC depth at w
@@ -457,7 +457,7 @@ TEST(Selective, LightThroughGapsNarrowerThanATexelIsTraced) {
   Renderer renderer(validatedContext(), scene, settings);
   const Frame reference = renderer.render("ref", camera, light);
   const Frame srt = renderer.render("srt", camera, light);
-  ASSERT_LT(gap, 0.5f * renderer.frameData().shadow.texelWorld) << "the gap is narrower than half a texel";
+  ASSERT_LT(gap, 0.5f * renderer.frameContext().frameData().shadow.texelWorld) << "the gap is narrower than half a texel";
   const Frame sm = renderer.render("sm", camera, light);
   std::size_t line = 0;  // floor pixels the gap lights
   for (std::size_t i = 0; i < reference.visibility.size(); ++i) line += reference.covered[i] && reference.visibility[i] > 0.5f;

@@ -152,7 +152,7 @@ TEST(SoftBaselines, PcssSingleBlockerErrorWherePenumbraeOverlap) {
   const Frame msm = renderer.render("msm", *scene.camera, light);
   const Frame srt = renderer.render("srt", *scene.camera, light);
   const Frame frt = renderer.render("frt", *scene.camera, light);
-  const auto positions = renderer.gbuffer().positions();
+  const auto positions = renderer.frameContext().gbuffer().positions();
 
   // Each caster's own light fraction at ground pixels, from 256 points on the disk; the overlap
   // is where both are partial, elsewhere where only one is (a single blocker depth, which pcss

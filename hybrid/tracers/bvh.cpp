@@ -1,6 +1,6 @@
 // Tracer bvh: the GPU BVH traversed in compute shaders (raytrace/bvh_tracer.h).
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

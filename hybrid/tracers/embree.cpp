@@ -1,6 +1,6 @@
 // Tracer embree: the CPU reference (raytrace/embree_tracer.h), which method ref traces on too.
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

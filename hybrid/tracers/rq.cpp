@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "hybrid/registry.h"
-#include "hybrid/renderer.h"
+#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

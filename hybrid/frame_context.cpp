@@ -1,0 +1,448 @@
+#include "hybrid/frame_context.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "core/gpu_light.h"
+#include "core/units.h"
+#include "hybrid/method.h"
+#include "hybrid/registry.h"
+#include "shared/compact.h"
+#include "shared/trace.h"
+
+namespace penumbra {
+namespace {
+
+vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
+
+// Settings with the shadow maps' read path resolved for this device, so every map made from them
+// (centre, corners, msm) tells its shaders the same.
+RenderSettings resolved(const gpu::Context& context, RenderSettings s) {
+  using Reads = raster::ShadowMapSettings::Reads;
+  if (s.shadowMap.reads == Reads::Auto) s.shadowMap.reads = raster::bufferReads(context, s.shadowMap) ? Reads::Buffer : Reads::Texture;
+  return s;
+}
+
+}  // namespace
+
+FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, const RenderSettings& settings)
+    : context_(context),
+      scene_(scene),
+      settings_(resolved(context, settings)),
+      bounds_(scene.bounds()),
+      geometry_(context, scene),
+      gbuffer_(context, settings.width, settings.height),
+      lookup_(context),
+      shade_(context),
+      classify_(context),
+      compact_(context, settings.width, settings.height),
+      lightFit_(context),
+      frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
+      visibility_(context, pixels(settings) * sizeof(float),
+                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "visibility"),
+      indirect_(context, pixels(settings) * sizeof(glm::vec4), vk::BufferUsageFlagBits::eStorageBuffer, "indirect light"),
+      color_(context, pixels(settings) * 4, vk::BufferUsageFlagBits::eStorageBuffer, "shaded colour"),
+      smVisibility_(context, pixels(settings) * sizeof(float), vk::BufferUsageFlagBits::eStorageBuffer, "sm visibility"),
+      traceFlags_(context, pixels(settings) * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "trace flags"),
+      rayMax_(context, pixels(settings) * sizeof(float),
+              vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
+      why_(context, settings.pip.explain ? pixels(settings) * sizeof(std::uint32_t) : sizeof(std::uint32_t),
+           vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "pip why"),
+      blockers_(context, settings.denoise.mode != DenoiseMode::Off ? pixels(settings) * sizeof(float) : sizeof(float),
+                vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress, "blocker distances"),
+      timer_(context) {
+  std::memset(blockers_.data(), 0, blockers_.size());  // 0: no blocker known (a CPU tracer never writes them)
+}
+
+FrameContext::~FrameContext() = default;
+
+IndirectPass& FrameContext::indirectPass(FrameStats& stats) {
+  if (!indirectPass_) indirectPass_ = std::make_unique<IndirectPass>(context_, scene_);
+  stats.memoryBytes["scene_triangles"] = indirectPass_->bytes();
+  return *indirectPass_;
+}
+
+const CandidateTracer& FrameContext::candidateTracer(FrameStats& stats) {
+  if (!candidates_) {
+    CandidateTracerSettings s;
+    s.n = settings_.lineSpace.n;
+    s.depth = settings_.indirect.bvhDepth;
+    s.maxNormalDeviationDeg = settings_.indirect.maxDeviationDeg;
+    s.budgetBytes = settings_.lineSpace.budgetBytes;
+    candidates_ = std::make_unique<CandidateTracer>(context_, scene_, s);
+  }
+  const CandidateStats& ls = candidates_->lineSpace().stats;
+  stats.setupMs["candidate_build"] = ls.buildMs + candidates_->bvh().stats.buildMs;
+  stats.memoryBytes["bvh_ls"] = candidates_->bytes();
+  char note[240];
+  std::snprintf(note, sizeof(note),
+                "candidate line space (N=%u, BVH depth %u): %llu line spaces, %.1f%% of shafts filled, %.1f MB sparse "
+                "(dense %.1f MB), built in %.0f ms",
+                ls.n, settings_.indirect.bvhDepth, (unsigned long long)ls.boxes, 100.0 * ls.filledFraction,
+                double(ls.sparseBytes) / 1e6, double(ls.denseBytes) / 1e6, ls.buildMs);
+  stats.notes.push_back(note);
+  return *candidates_;
+}
+
+const LineSpaceTracer& FrameContext::ntreeTracer(FrameStats& stats) {
+  if (!ntree_) {
+    LineSpaceSettings s = settings_.lineSpace;
+    s.shadows = LineSpaceSettings::Shadows::Exact;
+    s.movingTracer = LineSpaceSettings::Moving::Bvh;  // the indirect kernel traces them on the BVH
+    ntree_ = std::make_unique<LineSpaceTracer>(context_, scene_, s);
+  }
+  const LineSpaceStats& ls = ntree_->stats();
+  stats.setupMs["ntree_build"] = ls.buildMs;
+  stats.memoryBytes["ntree"] = ls.bytes;
+  char note[240];
+  std::snprintf(note, sizeof(note),
+                "N-tree (N=%u, d=%u, exact): %llu subdivided nodes, %llu leaf cells, %llu triangle references, %.1f MB "
+                "(leaf lists and triangles %.1f), built in %.0f ms",
+                ls.n, ls.depth, (unsigned long long)ls.nodes, (unsigned long long)ls.leaves,
+                (unsigned long long)ls.leafTriangleRefs, double(ls.bytes) / 1e6, double(ls.exactBytes()) / 1e6, ls.buildMs);
+  stats.notes.push_back(note);
+  return *ntree_;
+}
+
+const NTreeCandidateTracer& FrameContext::ntreeCandidateTracer(FrameStats& stats) {
+  if (!ntreeLs_) {
+    NTreeCandidateSettings s;
+    s.lineSpace = settings_.lineSpace;
+    s.depth = settings_.indirect.ntreeDepth;
+    s.minTriangles = settings_.indirect.ntreeMinTriangles;
+    s.maxNormalDeviationDeg = settings_.indirect.maxDeviationDeg;
+    ntreeLs_ = std::make_unique<NTreeCandidateTracer>(context_, scene_, s);
+  }
+  const CandidateStats& cs = ntreeLs_->candidates().stats;
+  const LineSpaceStats& ls = ntreeLs_->lineSpace().stats();
+  stats.setupMs["ntree_ls_build"] = ntreeLs_->buildMs();
+  stats.memoryBytes["ntree_ls"] = ntreeLs_->bytes();
+  char note[320];
+  std::snprintf(note, sizeof(note),
+                "N-tree with candidate line spaces (N=%u, d=%u, D=%u, T=%u): %llu line spaces, %.1f%% of shafts filled, "
+                "%.1f MB sparse (dense %.1f MB); binary line space %.1f MB; built in %.0f ms",
+                ls.n, ls.depth, ntreeLs_->depth(), settings_.indirect.ntreeMinTriangles, (unsigned long long)cs.boxes,
+                100.0 * cs.filledFraction, double(cs.sparseBytes) / 1e6, double(cs.denseBytes) / 1e6,
+                double(ls.bytes) / 1e6, ntreeLs_->buildMs());
+  stats.notes.push_back(note);
+  if (ntreeLs_->placedShallower()) {
+    stats.notes.push_back("ntree-ls: D = d - 1 would exceed the budget or the device's buffer limit; placed at D = " +
+                          std::to_string(ntreeLs_->depth()) + " (--ntree-ls-depth)");
+  }
+  return *ntreeLs_;
+}
+
+const EmbreeTracer& FrameContext::embree(FrameStats& stats) { return static_cast<EmbreeTracer&>(tracer(stats, "embree")); }
+
+std::string FrameContext::resolveTracer(const gpu::Context& context, const std::string& name) {
+  return name == "auto" ? defaultTracer(context) : name;
+}
+
+ShadowTracer& FrameContext::tracer(FrameStats& stats, const std::string& name) {
+  const std::string resolvedName = resolveTracer(context_, name.empty() ? settings_.tracer : name);
+  const TracerEntry& entry = tracerEntry(resolvedName);  // InputError for unknown names
+  auto it = tracers_.find(resolvedName);
+  if (it == tracers_.end()) it = tracers_.emplace(resolvedName, entry.make(context_, scene_, settings_)).first;
+  entry.report(*it->second, settings_, stats);
+  return *it->second;
+}
+
+void FrameContext::sceneMoved() {
+  ++sceneVersion_;
+  geometry_.update(scene_);
+  if (indirectPass_) indirectPass_->update(scene_);
+  candidates_.reset();  // one tree over every mesh: built again on next use
+  // The built tracers refit (or rebuild) their dynamic BVHs; frames report the first one's update
+  // by name (bvh before ls before rq; all hold the same tree over the same triangles), else the
+  // N-trees'. A tracer that cannot refit (embree) is built again on next use.
+  std::optional<BvhRefitReport> traced;
+  for (auto it = tracers_.begin(); it != tracers_.end();) {
+    const std::optional<BvhRefitReport> report = it->second->sceneMoved(scene_);
+    if (!traced) traced = report;
+    it = report ? std::next(it) : tracers_.erase(it);
+  }
+  if (ntreeLs_) {  // static line spaces stay; the moving BVHs refit
+    const BvhRefitReport report = ntreeLs_->update(scene_);
+    if (!traced) traced = report;
+  }
+  if (ntree_) {
+    const BvhRefitReport report = ntree_->update(scene_);
+    if (!traced) traced = report;
+  }
+  refit_.reset();
+  if (traced) {
+    refit_ = FrameStats::Refit{traced->ms, traced->sah, traced->builtSah, traced->growth, traced->rebuilt, traced->rebuilds};
+  }
+}
+
+TraceJob FrameContext::traceJob(const ShadowTracer& tracer, TraceList list) {
+  const bool inPlace = list == TraceList::EveryCovered && tracer.tracesInPlace() && !settings_.simulateBandwidth;
+  if (frameData_.traceInPlace != (inPlace ? 1u : 0u)) {
+    frameData_.traceInPlace = inPlace ? 1u : 0u;
+    frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));  // no submission is running
+  }
+  return {compact_.points(), compact_.count(), frameBuffer_, visibility_, gbuffer_.position().view(), gbuffer_.normal().view()};
+}
+
+void FrameContext::recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  gpu::memoryBarrier(cmd, Stage::eDrawIndirect | Stage::eComputeShader, Access::eIndirectCommandRead | Access::eShaderStorageRead,
+                     Stage::eAllTransfer, Access::eTransferWrite);
+  cmd.updateBuffer<shared::TraceCount>(compact_.count().handle(), 0, count);
+  gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eDrawIndirect | Stage::eComputeShader,
+                     Access::eIndirectCommandRead | Access::eShaderStorageRead | Access::eShaderStorageWrite);
+}
+
+void FrameContext::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameStats& stats) {
+  if (!frameData_.traceInPlace) {  // the list holds what one storage binding can: a frame that flags more is refused
+    const std::uint64_t listed = job.count.download<shared::TraceCount>(1).front().count;
+    const std::uint64_t capacity = job.points.size() / sizeof(shared::ShadingPoint);
+    if (listed > capacity) {
+      throw InputError(std::to_string(listed) + " pixels to trace, more than the trace list's " + std::to_string(capacity) +
+                       " (one storage binding of this device); lower --res");
+    }
+    stats.pipPixels = listed;
+  }
+  const TraceReport report = tracer.finish(job);
+  if (report.hostMs > 0.0) stats.addPass("trace", report.hostMs);
+  stats.tracer = tracer.name();
+  stats.raysTraced = report.rays;
+  stats.nodeVisits = report.nodeVisits;
+  stats.triangleTests = report.triangleTests;
+}
+
+void FrameContext::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
+  // Every tile's pixels, in rows of as many workgroups as the device dispatches (tracePointIndex).
+  const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
+  const std::uint32_t groups = (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
+  const std::uint32_t row = std::min(groups, context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0]);
+  recordTraceCount(cmd, {items, row, (groups + row - 1) / row, 1});
+}
+
+void FrameContext::recordTraceList(const vk::raii::CommandBuffer& cmd, TraceList list, FrameStats& stats) {
+  switch (list) {
+    case TraceList::Doubtful:
+      if (!classify(cmd, stats, true)) recordCompact(cmd, COMPACT_FLAGGED);
+      break;
+    case TraceList::Flagged:
+      recordCompact(cmd, COMPACT_FLAGGED);
+      break;
+    case TraceList::EveryCovered:
+      recordUnclassified(cmd);
+      if (frameData_.traceInPlace) recordInPlaceCount(cmd);
+      else recordCompact(cmd, COMPACT_ALL_COVERED);
+      break;
+  }
+}
+
+bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList) {
+  const bool thin = settings_.pip.thinPass;
+  if (thin) {
+    if (!thin_ || thin_->faceCount() != frameData_.shadow.faceCount) {
+      thin_ = std::make_unique<raster::ThinTrianglePass>(context_, settings_.shadowMap, frameData_.shadow.faceCount,
+                                                         settings_.thin);
+    }
+    stats.memoryBytes["thin_mask"] = thin_->bytes();
+    timer_.begin(cmd, "thin_pass");
+    thin_->record(cmd, geometry_, frameData_.shadow);
+    timer_.end(cmd);
+    stats.thinPass = FrameStats::ThinPass{
+        .faces = frameData_.shadow.faceCount, .triangles = scene_.triangleCount(), .reused = thin_->selectionReused()};
+  }
+  const raster::ThinTrianglePass* thinPass = thin ? thin_.get() : nullptr;
+  const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
+  auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
+  push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
+  if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
+    pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
+    pyramidKey_.reset();
+  }
+  if (shared::isAreaLight(frameData_.light)) {  // the penumbra mask reads the pyramid; hard shadows do not
+    stats.memoryBytes["depth_pyramid"] = pyramid_->tiles().size();
+    // Its inputs, the map and the thin mask, follow from the key (the thin pass keeps its own).
+    const LightPassesKey key = lightPassesKey();
+    if (settings_.reuseLightPasses && pyramidKey_ == key) {
+      stats.reusedPasses.push_back("depth_pyramid");
+    } else {
+      timer_.begin(cmd, "depth_pyramid");
+      pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
+      timer_.end(cmd);
+      pyramidKey_ = key;
+    }
+  }
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_};
+  timer_.begin(cmd, "classify");
+  if (push.appendList) recordTraceCount(cmd, {0, 0, 1, 1});  // an empty list: workgroups add to count and groupsX
+  classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
+  timer_.end(cmd);
+  if (cornerMaps) {
+    if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);
+    timer_.begin(cmd, "corner_maps");
+    cornerMaps_->record(cmd, geometry_, gbuffer_, classify_, frameData_, bounds_, out, settings_.pip);
+    timer_.end(cmd);
+    stats.memoryBytes["corner_maps"] = cornerMaps_->bytes();
+  }
+  return push.appendList != 0u;
+}
+
+void FrameContext::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode) {
+  timer_.begin(cmd, "compact");
+  compact_.record(cmd, gbuffer_, traceFlags_, rayMax_, frameBuffer_, mode);
+  timer_.end(cmd);
+}
+
+void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
+  cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);  // 1.0f
+  cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);               // rays go all the way to the light
+  const vk::MemoryBarrier2 barrier{.srcStageMask = vk::PipelineStageFlagBits2::eClear,
+                                   .srcAccessMask = vk::AccessFlagBits2::eTransferWrite,
+                                   .dstStageMask = vk::PipelineStageFlagBits2::eComputeShader,
+                                   .dstAccessMask = vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite};
+  cmd.pipelineBarrier2({.memoryBarrierCount = 1, .pMemoryBarriers = &barrier});
+}
+
+void FrameContext::begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame,
+                         FrameStats& stats) {
+  view_ = cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height));
+  cameraPosition_ = camera.eye;
+  frameData_ = {};
+  frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
+  frameData_.light.sampleFrame = frame;
+  frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
+  frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
+  if (frameData_.shadow.kind == SHADOW_CUBE) {  // its near plane out to the nearest geometry (depth precision)
+    const glm::vec3 at(frameData_.light.position);
+    if (!clearance_ || clearance_->at != at || clearance_->sceneVersion != sceneVersion_) {
+      clearance_ = Clearance{at, sceneVersion_, distanceToNearestTriangle(scene_, at)};
+    }
+    frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap, false, clearance_->distance);
+  }
+  frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
+  frameData_.width = settings_.width;
+  frameData_.height = settings_.height;
+  frameData_.spp = shared::lightSampleCount(frameData_.light, method.samplesPerPixel(settings_));
+  frameData_.shadowFilter = method.shadowFilter(settings_);
+  compact_.describeList(frameData_);
+  if (settings_.denoise.mode != DenoiseMode::Off && shared::isAreaLight(frameData_.light))
+    frameData_.blockers = gpu::addressHalves(blockers_);
+  frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
+  stats.samplesPerPixel = frameData_.spp;
+  timer_.reset();
+  gbufferRecorded_ = false;
+}
+
+void FrameContext::fitLightToView(FrameStats& stats) {
+  if (!settings_.fitLightToView || shared::isAreaLight(frameData_.light) || frameData_.shadow.faceCount != 1) return;
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    recordGBuffer(cmd);
+    timer_.begin(cmd, "light_fit");
+    lightFit_.record(cmd, gbuffer_, frameData_.shadow);
+    timer_.end(cmd);
+  });
+  gbufferRecorded_ = true;
+  // Margin: the 3x3 classification neighbourhood, the normal offset and a 5x5 PCF kernel stay on
+  // the map. Zoom limit: beyond it texels would shrink below what the depth bias was tuned for.
+  constexpr float kMarginTexels = 4.0f, kMaxZoom = 16.0f;
+  const shared::ShadowMapInfo whole = frameData_.shadow;
+  frameData_.shadow = raster::fitShadowMap(whole, lightFit_.bounds(), kMarginTexels, kMaxZoom);
+  frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
+  stats.lightMapZoom = whole.texelWorld / frameData_.shadow.texelWorld;
+}
+
+void FrameContext::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
+  if (gbufferRecorded_) return;
+  timer_.begin(cmd, "gbuffer");
+  gbuffer_.record(cmd, geometry_, view_, cameraPosition_);
+  timer_.end(cmd);
+}
+
+bool FrameContext::LightPassesKey::operator==(const LightPassesKey& other) const {
+  return geometryVersion == other.geometryVersion && std::memcmp(&shadow, &other.shadow, sizeof(shadow)) == 0;
+}
+
+FrameContext::LightPassesKey FrameContext::lightPassesKey() const { return {frameData_.shadow, geometry_.version()}; }
+
+void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
+  // Made on first use and again only when the light needs a different number of faces.
+  if (!shadowMap_ || shadowMap_->faceCount() != frameData_.shadow.faceCount) {
+    shadowMap_ = std::make_unique<raster::ShadowMapPass>(context_, settings_.shadowMap, frameData_.shadow.faceCount);
+    shadowMapKey_.reset();
+  }
+  stats.memoryBytes["shadow_map"] = shadowMap_->depth().bytes();
+  const LightPassesKey key = lightPassesKey();
+  if (settings_.reuseLightPasses && shadowMapKey_ == key) {
+    stats.reusedPasses.push_back("shadow_map");
+    return;
+  }
+  timer_.begin(cmd, "shadow_map");
+  shadowMap_->record(cmd, geometry_, frameData_.shadow);
+  timer_.end(cmd);
+  shadowMapKey_ = key;
+}
+
+void FrameContext::shade(Method& method, FrameStats& stats) {
+  gbufferRecorded_ = false;
+  if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    method.recordBeforeShade(*this, cmd, stats);
+    timer_.begin(cmd, "shade");
+    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, method.term());
+    timer_.end(cmd);
+  });
+}
+
+Frame FrameContext::readBack(const Method& method, FrameStats stats) {
+  for (const auto& [pass, ms] : timer_.read()) stats.addPass(pass, ms);
+  Frame frame;
+  frame.width = settings_.width;
+  frame.height = settings_.height;
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { gbuffer_.recordReadback(cmd); });
+  const std::vector<glm::vec4> positions = gbuffer_.positions();
+  frame.covered.resize(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
+  if (method.term() == Term::Shadow) {
+    frame.visibility = visibility_.download<float>(positions.size());
+  } else {  // the frame's term: ao = 1 - occlusion, indirect = the mean of rgb
+    const auto light = indirect_.download<glm::vec4>(positions.size());
+    frame.visibility.resize(light.size());
+    for (std::size_t i = 0; i < light.size(); ++i) {
+      frame.visibility[i] = method.term() == Term::Ao ? 1.0f - light[i].a : (light[i].r + light[i].g + light[i].b) / 3.0f;
+    }
+  }
+  frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
+  const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+  if (frameData_.traceInPlace) stats.pipPixels = covered;  // every covered pixel, read from the G-buffer
+  if (stats.pipPixels) {
+    stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;
+    if (method.classifies() && shared::isAreaLight(frameData_.light) && *stats.pipFraction > 0.75) {
+      stats.notes.push_back("the penumbra mask covers " + std::to_string(int(100.0 * *stats.pipFraction)) +
+                            "% of covered pixels: srt traces nearly every pixel, i.e. costs frt plus the map passes");
+    }
+  }
+  if (method.classifies()) {
+    const auto flags = traceFlags_.download<std::uint32_t>(positions.size());
+    frame.pip.assign(flags.begin(), flags.end());
+    // The classification stored the sm answer again only where it flagged (the trace overwrites
+    // those); elsewhere the final visibility is it.
+    frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
+    for (std::size_t i = 0; i < flags.size(); ++i) {
+      if (flags[i] == 0u) frame.shadowMapVisibility[i] = frame.visibility[i];
+    }
+    if (settings_.pip.explain && !shared::isAreaLight(frameData_.light)) {
+      const auto why = why_.download<std::uint32_t>(positions.size());
+      frame.pipWhy.assign(why.begin(), why.end());
+    }
+  }
+
+  stats.refit = refit_;
+  stats.memoryBytes["scene_geometry"] = geometry_.bytes();
+  stats.memoryBytes["gbuffer"] = gbuffer_.bytes();
+  if (stats.pipPixels && !frameData_.traceInPlace) stats.memoryBytes["ray_list"] = compact_.bytes();
+  frame.stats = std::move(stats);
+  return frame;
+}
+
+}  // namespace penumbra

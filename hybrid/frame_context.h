@@ -1,0 +1,193 @@
+// What a method works with during one frame (Method::run): the scene's uploaded geometry, the
+// frame's data and buffers, the shared passes as stages (camera pass, light pass, classification,
+// the trace list), the tracers by name, the GPU timer. The Renderer owns one and runs a frame as
+// begin, the method's stages, shade and readBack.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/scene.h"
+#include "gpu/timer.h"
+#include "hybrid/compact_pass.h"
+#include "hybrid/denoise_pass.h"
+#include "hybrid/frame_stats.h"
+#include "hybrid/indirect_pass.h"
+#include "hybrid/shade_pass.h"
+#include "raster/bitmask_pass.h"
+#include "raster/corner_maps_pass.h"
+#include "raster/gbuffer_pass.h"
+#include "raster/light_fit_pass.h"
+#include "raster/pip_classify_pass.h"
+#include "raster/shadow_lookup_pass.h"
+#include "raster/shadow_map_pass.h"
+#include "raster/thin_triangle_pass.h"
+#include "raytrace/bvh_tracer.h"
+#include "raytrace/embree_tracer.h"
+#include "raytrace/linespace_tracer.h"
+#include "raytrace/ray_query_tracer.h"
+#include "hybrid/render_settings.h"
+#include "shared/frame.h"
+
+namespace penumbra {
+
+class Method;
+
+// Which pixels a frame traces (FrameContext::recordTraceList).
+enum class TraceList {
+  Doubtful,      // classify, then list the pixels it flagged (in the classification itself where it can)
+  Flagged,       // list the pixels already flagged (after a method's own passes changed the flags)
+  EveryCovered,  // no classification: visibility 1, every covered pixel
+};
+
+// One rendered frame, read back to the host.
+struct Frame {
+  std::uint32_t width = 0, height = 0;
+  std::vector<float> visibility;      // width*height, row 0 at the top
+  std::vector<std::uint8_t> covered;  // 1 where geometry covers the pixel
+  std::vector<std::uint8_t> rgba;     // shaded sRGB image, width*height*4
+  std::vector<std::uint8_t> pip;      // methods that classify: PIP_* flags per pixel (0 = not traced)
+  std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
+  std::vector<std::uint8_t> pipWhy;        // with settings.pip.explain, hard shadows: PIP_WHY_* per pixel
+  FrameStats stats;
+};
+
+class FrameContext {
+ public:
+  FrameContext(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
+  ~FrameContext();
+
+  // The stages around a method's own (Renderer::render): the frame's data for this camera, light
+  // and method (frame: of a sequence, rotating the light samples), the light's map fitted to the
+  // view, shading, and reading the frame back.
+  void begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame, FrameStats& stats);
+  // Renders the G-buffer in a submission of its own and narrows frameData().shadow to what it sees,
+  // where settings().fitLightToView applies to this light (for methods that read its map).
+  void fitLightToView(FrameStats& stats);
+  void shade(Method& method, FrameStats& stats);
+  Frame readBack(const Method& method, FrameStats stats);
+  // Renderer::sceneMoved: re-uploads the moving meshes and refits the built tracers.
+  void sceneMoved();
+  std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
+
+  // For methods, during Method::run:
+  const gpu::Context& context() const { return context_; }
+  const Scene& scene() const { return scene_; }
+  const Bounds& bounds() const { return bounds_; }
+  const RenderSettings& settings() const { return settings_; }
+  const shared::FrameData& frameData() const { return frameData_; }
+  const gpu::Buffer& frameBuffer() const { return frameBuffer_; }
+  const gpu::Buffer& visibility() const { return visibility_; }
+  gpu::Buffer& visibility() { return visibility_; }
+  // Methods ao and indirect: vec4 per pixel (rgb one-bounce light, a occlusion), which shading adds
+  // to the direct light for their frames.
+  gpu::Buffer& indirect() { return indirect_; }
+  IndirectPass& indirectPass(FrameStats& stats);  // made on first use
+  // Tracer bvh-ls of ao and indirect: the BVH with candidate line spaces, built on first use (and
+  // again after sceneMoved), its build and memory in stats.
+  const CandidateTracer& candidateTracer(FrameStats& stats);
+  // Tracer ntree: the N-tree's line space in exact mode (apart from the shadow tracer ls, whose
+  // mode may be binary), the moving meshes on its BVH; built on first use, refit by sceneMoved.
+  const LineSpaceTracer& ntreeTracer(FrameStats& stats);
+  // Tracer ntree-ls: the N-tree with candidate line spaces at level settings().indirect.ntreeDepth
+  // (and the T rule), built on first use (static meshes only: sceneMoved refits the moving BVH).
+  const NTreeCandidateTracer& ntreeCandidateTracer(FrameStats& stats);
+  const gpu::Buffer& traceFlags() const { return traceFlags_; }  // srt: nonzero where the pixel was traced
+  // Mean blocker distance per traced pixel, written by the GPU tracers when settings().denoise is on.
+  const gpu::Buffer& blockers() const { return blockers_; }
+  gpu::GpuTimer& timer() { return timer_; }
+  const raster::SceneGeometry& geometry() const { return geometry_; }
+  const raster::GBufferPass& gbuffer() const { return gbuffer_; }
+  const raster::ShadowMapPass& shadowMap() const { return *shadowMap_; }
+  const raster::ShadowLookupPass& shadowLookup() const { return lookup_; }
+  const ViewMatrices& view() const { return view_; }
+  const glm::vec3& cameraPosition() const { return cameraPosition_; }
+  const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
+  // The tracer "auto" stands for on this device (defaultTracer: rq on a GPU with ray queries, else
+  // bvh); other names stay.
+  static std::string resolveTracer(const gpu::Context& context, const std::string& name);
+  // settings().tracer (or `name` when given), built on first use
+  ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
+  // Before the submission: what `tracer` traces for `list` and where results go: the list's points,
+  // or for TraceList::EveryCovered on a tracer that can take them from the G-buffer (frt's best
+  // self, no compaction: a GPU tracer and no bandwidth replay) the G-buffer itself (sets
+  // FrameData::traceInPlace for this frame).
+  TraceJob traceJob(const ShadowTracer& tracer, TraceList list);
+  // After the submission that traced `job`: refuses a list that overflowed, collects the tracer's
+  // report into stats (pixels listed, rays, traversal counts, host time).
+  void finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameStats& stats);
+
+  // Records the camera pass with its timer scope (every method starts with it).
+  void recordGBuffer(const vk::raii::CommandBuffer& cmd);
+  // Records the light pass with its timer scope (making the map for this light if needed).
+  void recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats);
+  // The trace list, the one stage that makes it, after the camera pass (and the light pass for
+  // TraceList::Doubtful), with timer scopes.
+  void recordTraceList(const vk::raii::CommandBuffer& cmd, TraceList list, FrameStats& stats);
+  // Thin-triangle mask (when settings().pip.thinPass), then PIP classification (and the corner
+  // maps' additions to the penumbra mask with --penumbra-maps 5): flags and the sm answer, for a
+  // method whose own passes change flags before TraceList::Flagged lists them (bitmask).
+  void recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) { classify(cmd, stats, false); }
+  // For methods that trace without classifying: visibility 1 everywhere, no ray intervals.
+  void recordUnclassified(const vk::raii::CommandBuffer& cmd);
+
+ private:
+  // recordClassify; with appendList the classification also lists the flagged pixels where it can
+  // (returns whether it did: else the compaction must).
+  bool classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList);
+  void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
+  // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
+  void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
+  // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
+  void recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count);
+
+  const gpu::Context& context_;
+  const Scene& scene_;
+  RenderSettings settings_;
+  Bounds bounds_;
+  raster::SceneGeometry geometry_;
+  raster::GBufferPass gbuffer_;
+  raster::ShadowLookupPass lookup_;
+  ShadePass shade_;
+  raster::PipClassifyPass classify_;
+  CompactPass compact_;
+  raster::LightFitPass lightFit_;
+  struct Clearance {  // the light's distance to the nearest triangle, for its cube map's near plane
+    glm::vec3 at;
+    std::uint64_t sceneVersion;
+    float distance;
+  };
+  std::optional<Clearance> clearance_;
+  bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
+  std::unique_ptr<raster::ShadowMapPass> shadowMap_;
+  // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
+  struct LightPassesKey {
+    shared::ShadowMapInfo shadow;
+    std::uint64_t geometryVersion;
+    bool operator==(const LightPassesKey& other) const;
+  };
+  LightPassesKey lightPassesKey() const;
+  std::optional<LightPassesKey> shadowMapKey_, pyramidKey_;
+  std::unique_ptr<raster::ThinTrianglePass> thin_;
+  std::unique_ptr<raster::DepthPyramidPass> pyramid_;
+  std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
+  std::map<std::string, std::unique_ptr<ShadowTracer>> tracers_;  // by name (hybrid/registry.h), built on first use
+  std::unique_ptr<IndirectPass> indirectPass_;
+  std::unique_ptr<CandidateTracer> candidates_;
+  std::unique_ptr<LineSpaceTracer> ntree_;
+  std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
+  gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
+  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
+  gpu::GpuTimer timer_;
+  shared::FrameData frameData_{};
+  ViewMatrices view_;
+  glm::vec3 cameraPosition_{0.0f};
+  std::uint64_t sceneVersion_ = 0;
+  std::optional<FrameStats::Refit> refit_;  // the last sceneMoved()'s, for the frames after it
+};
+
+}  // namespace penumbra
