@@ -109,6 +109,8 @@ void requireFits(const MemoryEstimate& need, const RenderSettings& s, std::uint6
 }  // namespace
 
 void addRunOptions(CLI::App& app, RunConfig& c) {
+  // --help lists them by topic, each group declared before its options.
+  app.option_defaults()->group("Scene, camera and light");
   app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, room, foliage, level, knot), a .gltf/.glb or .obj file")
       ->capture_default_str();
   app.add_option("--camera", c.camera, "Camera 'ex,ey,ez:tx,ty,tz[:fovy]' (default: the scene's, else a three-quarter view)");
@@ -117,16 +119,72 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->each([&c](const std::string&) { c.lightSizeGiven = true; });
   app.add_option("--time", c.time, "Animated scenes (e.g. builtin:courtyard-moving): pose at this many seconds")
       ->each([&c](const std::string&) { c.timeGiven = true; });
-  app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
+  app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
+  app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--res", c.resolution, "Image resolution WxH")->capture_default_str();
+  app.option_defaults()->group("Shadow maps");
   app.add_option("--shadow-map-res", c.shadowMapRes, "Shadow map texels per side (per cube face)")
       ->capture_default_str()->check(CLI::Range(16u, 16384u));
-  app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
-  app.add_option("--msm-maps", c.msmMaps, "Shadow maps (light samples) averaged by method msm")
-      ->capture_default_str()->check(CLI::Range(1u, 256u));
+  app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
+  app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
+  app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
+  app.add_option("--shadow-reads", c.shadowReads,
+                 "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, "
+                 "far cheaper on lavapipe), or auto (buffer on CPU devices)")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "texture", "buffer"}));
+  app.add_option("--light-fit", c.lightFit,
+                 "Directional and spot lights (point-like): fit the shadow map to what the camera sees (view) or to "
+                 "the whole scene (scene)")
+      ->capture_default_str()->check(CLI::IsMember({"view", "scene"}));
+  app.add_option("--reuse-light-passes", c.reuseLightPasses,
+                 "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
+                 "still light's map (on), or render them every frame (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.option_defaults()->group("Ray tracing");
+  app.add_option("--tracer", c.tracer,
+                 "Ray tracer of srt and frt: " + [] {
+                   std::string list;
+                   for (const auto& [name, entry] : registry().tracers()) list += name + " (" + entry.help + "), ";
+                   return list;
+                 }() + "or auto (rq on a GPU that has ray queries, else bvh). Methods ao and indirect take a comma-separated list of " + indirectTracerList() +
+                 " (auto = bvh) and render once per tracer: bvh exact, bvh-ls the BVH with candidate line spaces, ntree "
+                 "the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line spaces "
+                 "(--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
+      ->capture_default_str();
+  app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
+  app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
+               "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
+  app.option_defaults()->group("Selective ray tracing (srt)");
+  app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
+  app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
+  app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
+      ->capture_default_str()->check(CLI::IsMember({1u, 5u}));
+  app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
+  app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
+  app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
+  app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--srt-choice", c.srtChoice,
+                 "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify "
+                 "and trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd "
+                 "the other again), off always classifies")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "off"}));
+  app.option_defaults()->group("Soft shadows and denoising");
+  app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
   app.add_flag("--shared-samples", c.sharedSamples,
                "Every pixel uses the same light samples, the pattern method bitmask looks up, so that ref, frt and srt "
                "see bitmask's samples (default: a pattern per pixel)");
+  app.add_option("--denoise", c.denoise,
+                 "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
+      ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
+  app.add_option("--denoise-frames", c.denoiseFrames,
+                 "--denoise temporal: each method renders a sequence from a cut and reports this frame of it (and later "
+                 "ones with --repeat)")
+      ->capture_default_str()->check(CLI::Range(1u, 1000u));
+  app.option_defaults()->group("Baselines: pcf, msm, bitmask");
+  app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
+  app.add_option("--msm-maps", c.msmMaps, "Shadow maps (light samples) averaged by method msm")
+      ->capture_default_str()->check(CLI::Range(1u, 256u));
   app.add_option("--bitmask-res", c.bitmaskRes, "Method bitmask: texels per side of the receiver's hidden-samples map")
       ->capture_default_str()->check(CLI::Range(16u, 4096u));
   app.add_option("--bitmask-receivers", c.bitmaskReceivers,
@@ -142,26 +200,7 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_flag("--bitmask-decorrelate", c.bitmaskDecorrelate,
                "Method bitmask: each map texel sees the light samples under one of the square's 8 symmetries (noise "
                "instead of aliasing; the reference no longer has the same samples)");
-  app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
-  app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
-  app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
-  app.add_option("--shadow-reads", c.shadowReads,
-                 "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, "
-                 "far cheaper on lavapipe), or auto (buffer on CPU devices)")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "texture", "buffer"}));
-  app.add_option("--light-fit", c.lightFit,
-                 "Directional and spot lights (point-like): fit the shadow map to what the camera sees (view) or to "
-                 "the whole scene (scene)")
-      ->capture_default_str()->check(CLI::IsMember({"view", "scene"}));
-  app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
-  app.add_option("--tracer", c.tracer,
-                 "Ray tracer of srt and frt: bvh (GPU compute BVH), rq (GPU ray queries on driver-built acceleration "
-                 "structures), embree (CPU), ls (line space, GPU), or auto (rq on a GPU that has ray queries, else bvh). "
-                 "Methods ao and indirect take a comma-separated list of " + indirectTracerList() +
-                 " (auto = bvh) and render once per tracer: bvh exact, bvh-ls the BVH with candidate line spaces, ntree "
-                 "the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line spaces "
-                 "(--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
-      ->capture_default_str();
+  app.option_defaults()->group("Indirect light: ao, indirect");
   app.add_option("--indirect-rays", c.indirectRays, "Methods ao and indirect: cosine-weighted rays per pixel")
       ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
   app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
@@ -187,6 +226,7 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                  "Candidate line spaces: drop a plane hit whose extrapolated normal leans more than this many degrees "
                  "from the candidate's face normal (180 keeps all)")
       ->capture_default_str()->check(CLI::Range(0.0f, 180.0f));
+  app.option_defaults()->group("Line space");
   app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
   app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
   app.add_option("--linespace-budget", c.linespaceBudgetMb,
@@ -200,41 +240,14 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                  "shadow as whole cells, no contact shadows) or by the leaf cells' triangles the set bits lead to "
                  "(exact: the BVH's answer; more memory)")
       ->capture_default_str();
-  app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
-  app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
-  app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
-      ->capture_default_str()->check(CLI::IsMember({1u, 5u}));
-  app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
-  app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
-               "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
-  app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
-  app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
-  app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
-      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
-  app.add_option("--srt-choice", c.srtChoice,
-                 "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify "
-                 "and trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd "
-                 "the other again), off always classifies")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "off"}));
-  app.add_option("--reuse-light-passes", c.reuseLightPasses,
-                 "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
-                 "still light's map (on), or render them every frame (off)")
-      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
-  app.add_option("--denoise", c.denoise,
-                 "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
-      ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
-  app.add_option("--denoise-frames", c.denoiseFrames,
-                 "--denoise temporal: each method renders a sequence from a cut and reports this frame of it (and later "
-                 "ones with --repeat)")
-      ->capture_default_str()->check(CLI::Range(1u, 1000u));
-  app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
-  app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
+  app.option_defaults()->group("Measuring and output");
   app.add_option("--warmup", c.warmup, "Frames rendered and discarded before the measured one (shader JIT, caches)")
       ->capture_default_str()->check(CLI::Range(0u, 100u));
   app.add_option("--repeat", c.repeat, "Measured frames per method; the median frame is reported with min/max")
       ->capture_default_str()->check(CLI::Range(1u, 1000u));
   app.add_flag("--validate", c.validate, "Enable Vulkan validation layers; any message makes the run fail");
   app.add_option("--out", c.outDir, "Output folder")->capture_default_str();
+  app.option_defaults()->group("Options");  // what the command adds after these
 }
 
 FrameSequence::FrameSequence(const RunConfig& config, const RenderSettings& settings, std::string method)
@@ -349,12 +362,19 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
       c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
   using Reads = raster::ShadowMapSettings::Reads;
   const Reads reads = c.shadowReads == "texture" ? Reads::Texture : c.shadowReads == "buffer" ? Reads::Buffer : Reads::Auto;
-  s.settings.shadowMap = {c.shadowMapRes, c.depthBias, c.slopeBias, c.normalOffset, reads};
+  s.settings.shadowMap = {.resolution = c.shadowMapRes,
+                          .depthBiasConstant = c.depthBias,
+                          .depthBiasSlope = c.slopeBias,
+                          .normalOffsetTexels = c.normalOffset,
+                          .reads = reads};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.sharedSamples = c.sharedSamples;
-  s.settings.bitmask = {c.bitmaskRes, c.bitmaskReceivers.empty() ? std::vector<std::string>{} : splitList(c.bitmaskReceivers),
-                        c.bitmaskFallback, c.bitmaskWatertight, c.bitmaskDecorrelate};
+  s.settings.bitmask = {.resolution = c.bitmaskRes,
+                        .receivers = c.bitmaskReceivers.empty() ? std::vector<std::string>{} : splitList(c.bitmaskReceivers),
+                        .fallback = c.bitmaskFallback,
+                        .watertight = c.bitmaskWatertight,
+                        .decorrelate = c.bitmaskDecorrelate};
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer.find(',') == std::string::npos ? c.tracer : "auto";  // a list: ao and indirect only
   if (c.tracer.find(',') == std::string::npos && isIndirectTracer(c.tracer == "auto" ? "bvh" : c.tracer)) {
@@ -382,10 +402,17 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {
     throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");
   }
-  s.settings.lineSpace = {c.linespaceN, c.linespaceDepth, std::uint64_t(c.linespaceBudgetMb * 1e6), c.linespaceOffset};
-  s.settings.lineSpace.shadows = parseShadows(c.linespaceShadows);  // InputError for an unknown mode
-  s.settings.pip = {c.pipDelta, c.pipMargin, !c.noThin, c.rayIntervals == "on", c.penumbraMaps};
-  s.settings.pip.explain = c.explainMisses;
+  s.settings.lineSpace = {.n = c.linespaceN,
+                          .depth = c.linespaceDepth,
+                          .budgetBytes = std::uint64_t(c.linespaceBudgetMb * 1e6),
+                          .startOffsetCells = c.linespaceOffset,
+                          .shadows = parseShadows(c.linespaceShadows)};  // InputError for an unknown mode
+  s.settings.pip = {.deltaFraction = c.pipDelta,
+                    .marginTexels = c.pipMargin,
+                    .thinPass = !c.noThin,
+                    .rayIntervals = c.rayIntervals == "on",
+                    .penumbraMaps = c.penumbraMaps,
+                    .explain = c.explainMisses};
   s.settings.simulateBandwidth = c.simulateBandwidth;
   s.settings.fitLightToView = c.lightFit == "view";
   s.settings.thin.maxWidthTexels = c.thinWidth;

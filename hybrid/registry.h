@@ -21,6 +21,7 @@ struct RenderSettings;
 using MethodFactory = std::function<std::unique_ptr<Method>()>;
 
 struct TracerEntry {
+  std::string help;  // what it is, for --help: "GPU compute BVH"
   std::function<std::unique_ptr<ShadowTracer>(const gpu::Context&, const Scene&, const RenderSettings&)> make;
   // What every frame that traced on it reports: its one-time build, memory and notes.
   std::function<void(const ShadowTracer&, const RenderSettings&, FrameStats&)> report;

@@ -7,12 +7,19 @@
 namespace penumbra::raster {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},         {1, vk::DescriptorType::eStorageImage},
-                                      {2, vk::DescriptorType::eCombinedImageSampler}, {3, vk::DescriptorType::eCombinedImageSampler},
-                                      {4, vk::DescriptorType::eStorageBuffer},        {5, vk::DescriptorType::eStorageBuffer},
-                                      {6, vk::DescriptorType::eStorageBuffer},        {7, vk::DescriptorType::eStorageBuffer},
-                                      {8, vk::DescriptorType::eStorageBuffer},        {13, vk::DescriptorType::eStorageBuffer},
-                                      {14, vk::DescriptorType::eStorageBuffer},       {15, vk::DescriptorType::eStorageImage}};
+constexpr gpu::Binding kBindings[] = {
+    {PIP_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+    {PIP_BINDING_NORMAL, vk::DescriptorType::eStorageImage},
+    {PIP_BINDING_SHADOW_MAP, vk::DescriptorType::eCombinedImageSampler},
+    {PIP_BINDING_THIN_MASK, vk::DescriptorType::eCombinedImageSampler},
+    {PIP_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_SM_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_TRACE_FLAGS, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_RAY_MAX, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_COUNT, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_WHY, vk::DescriptorType::eStorageBuffer},
+    {PIP_BINDING_FACE_NORMAL, vk::DescriptorType::eStorageImage}};
 
 }  // namespace
 
@@ -48,18 +55,18 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
   const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
   const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin));
   pipeline.bind(cmd, gpu::Descriptors{}
-                         .storageImage(0, gbuffer.position().view())
-                         .storageImage(1, gbuffer.normal().view())
-                         .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
-                         .sampledImage(3, thinView, thin ? thin->sampler() : shadowMap.sampler())
-                         .buffer(4, frame)
-                         .buffer(5, out.visibility)
-                         .buffer(6, out.smVisibility)
-                         .buffer(7, out.traceFlags)
-                         .buffer(8, out.rayMax)
-                         .buffer(13, out.count)
-                         .buffer(14, out.why)
-                         .storageImage(15, gbuffer.faceNormal().view()));
+                         .storageImage(PIP_BINDING_POSITION, gbuffer.position().view())
+                         .storageImage(PIP_BINDING_NORMAL, gbuffer.normal().view())
+                         .sampledImage(PIP_BINDING_SHADOW_MAP, shadowMap.depth().view(), shadowMap.sampler())
+                         .sampledImage(PIP_BINDING_THIN_MASK, thinView, thin ? thin->sampler() : shadowMap.sampler())
+                         .buffer(PIP_BINDING_FRAME, frame)
+                         .buffer(PIP_BINDING_VISIBILITY, out.visibility)
+                         .buffer(PIP_BINDING_SM_VISIBILITY, out.smVisibility)
+                         .buffer(PIP_BINDING_TRACE_FLAGS, out.traceFlags)
+                         .buffer(PIP_BINDING_RAY_MAX, out.rayMax)
+                         .buffer(PIP_BINDING_COUNT, out.count)
+                         .buffer(PIP_BINDING_WHY, out.why)
+                         .storageImage(PIP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view()));
   pipeline.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

@@ -7,27 +7,26 @@
 //    sin(b) = n.L;
 //  - a thin triangle, rasterized conservatively, covering the neighbourhood in front of it;
 //  - a neighbourhood that leaves its cube face (seams are classified conservatively);
-//  - beyond the paper, what the depth test lets through on real content (issue 17, found with
-//    compare --explain-misses): another surface over the receiver within the bias - a surface
-//    rising beside it, a step's foot, a strip lying on it (contact; layerOver); and light through
-//    a gap between blockers narrower than a texel, which the map closes (gapBetweenBlockers).
+//  - beyond the paper, what the depth test lets through on real content: another surface over the
+//    receiver within the bias - a surface rising beside it, a step's foot, a strip lying on it
+//    (contact; layerOver) - and light through a gap between blockers narrower than a texel, which
+//    the map closes (gapBetweenBlockers).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
 // shape scaled by the edge's depth relative to the receiver; computed here by gathering instead of
 // splatting: a pixel is in the mask iff an edge texel nearer than the receiver lies where its
 // splat covers the pixel, i.e. on a segment from the pixel's point to the light, searched in the
-// edge pyramid (penumbra_mask.glsl) in every face of the map; beyond the paper (issue 17), also
-// iff a smooth surface without an edge rises over a lit receiver's plane there, or part of the
-// light is below the plane of the receiver's face (a smoothed mesh's shading normal leans off it).
+// edge pyramid (penumbra_mask.glsl) in every face of the map; beyond the paper, also iff a smooth
+// surface without an edge rises over a lit receiver's plane there, or part of the light is below
+// the plane of the receiver's face (a smoothed mesh's shading normal leans off it).
 // Outside the mask a pixel is lit (no blocker within reach) or umbra (only blockers, no edge)
 // unless its umbra's blocker lies within its own depth interval (acne: traced, as is a layer
 // within the bias over a lit receiver).
 // With --penumbra-maps 5 the pass runs again on maps from the light's four corners, each adding
 // its edges' splats to the mask (cornerUnion).
 // With PipPush::appendList the flagged pixels also go straight into the trace list (ShadingPoints
-// and their count; the prefix-sum compaction pass is then not needed): on lavapipe the separate
-// pass cost about 9 ms at 1024^2, half of what tracing the list costs.
+// and their count), so that no compaction pass has to read every pixel's flags again.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -39,24 +38,24 @@
 #include "shared/shading_point.h"
 #include "shared/trace.h"
 layout(local_size_x = PIP_GROUP_SIZE, local_size_y = PIP_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(binding = 15, r32ui) uniform readonly uimage2D gFaceNormal;
-layout(binding = 2) uniform sampler2DArray shadowMap;
-layout(binding = 3) uniform sampler2DArray thinMask;
-layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 5) buffer Visibility { float visibility[]; };
-layout(std430, binding = 6) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
-layout(std430, binding = 7) buffer TraceFlags { uint traceFlags[]; };
-layout(std430, binding = 8) writeonly buffer RayMax { float rayMax[]; };
+layout(binding = PIP_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = PIP_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(binding = PIP_BINDING_FACE_NORMAL, r32ui) uniform readonly uimage2D gFaceNormal;
+layout(binding = PIP_BINDING_SHADOW_MAP) uniform sampler2DArray shadowMap;
+layout(binding = PIP_BINDING_THIN_MASK) uniform sampler2DArray thinMask;
+layout(std430, binding = PIP_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = PIP_BINDING_VISIBILITY) buffer Visibility { float visibility[]; };
+layout(std430, binding = PIP_BINDING_SM_VISIBILITY) writeonly buffer ShadowMapVisibility { float smVisibility[]; };
+layout(std430, binding = PIP_BINDING_TRACE_FLAGS) buffer TraceFlags { uint traceFlags[]; };
+layout(std430, binding = PIP_BINDING_RAY_MAX) writeonly buffer RayMax { float rayMax[]; };
 // Read through the device addresses in PipPush; as macros, LIGHT_TEXEL and the mask's search
 // index them like the arrays they were.
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Floats { float v[]; };
 #define shadowTexels Floats(push.shadowTexelsAt).v
 #define thinTexels Floats(push.thinTexelsAt).v
 #define tiles Floats(push.tilesAt).v
-layout(std430, binding = 13) buffer Count { TraceCount traceCount; };
-layout(std430, binding = 14) writeonly buffer Why { uint why[]; };
+layout(std430, binding = PIP_BINDING_COUNT) buffer Count { TraceCount traceCount; };
+layout(std430, binding = PIP_BINDING_WHY) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
 #include "point_list.glsl"
 #include "light_texels.glsl"

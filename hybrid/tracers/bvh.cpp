@@ -17,6 +17,6 @@ void report(const ShadowTracer& tracer, const RenderSettings&, FrameStats& stats
 
 }  // namespace
 
-void register_bvh(Registry& r) { r.tracer("bvh", {make, report}); }
+void register_bvh(Registry& r) { r.tracer("bvh", {"GPU compute BVH", make, report}); }
 
 }  // namespace penumbra

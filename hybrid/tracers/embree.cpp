@@ -15,6 +15,6 @@ void report(const ShadowTracer& tracer, const RenderSettings&, FrameStats& stats
 
 }  // namespace
 
-void register_embree(Registry& r) { r.tracer("embree", {make, report}); }
+void register_embree(Registry& r) { r.tracer("embree", {"CPU, the reference", make, report}); }
 
 }  // namespace penumbra

@@ -40,6 +40,6 @@ void report(const ShadowTracer& tracer, const RenderSettings& settings, FrameSta
 
 }  // namespace
 
-void register_ls(Registry& r) { r.tracer("ls", {make, report}); }
+void register_ls(Registry& r) { r.tracer("ls", {"line space, GPU", make, report}); }
 
 }  // namespace penumbra

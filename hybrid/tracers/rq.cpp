@@ -24,6 +24,6 @@ void report(const ShadowTracer& tracer, const RenderSettings&, FrameStats& stats
 
 }  // namespace
 
-void register_rq(Registry& r) { r.tracer("rq", {make, report}); }
+void register_rq(Registry& r) { r.tracer("rq", {"GPU ray queries on driver-built acceleration structures", make, report}); }
 
 }  // namespace penumbra

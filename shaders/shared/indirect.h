@@ -3,7 +3,7 @@
 // ambient occlusion (`ao`: the fraction of rays that leave within a radius) and one-bounce diffuse
 // light (`indirect`: at each ray's closest hit, the light's centre seen through one shadow ray,
 // reflected by the hit's base colour). The GPU kernels (indirect_trace.glsl) and the Embree
-// reference (hybrid/indirect_reference.cpp) sample and shade with these same functions.
+// reference (EmbreeTracer::traceIndirect, raytrace/embree_tracer.cpp) sample and shade with these same functions.
 #ifndef PENUMBRA_SHARED_INDIRECT_H
 #define PENUMBRA_SHARED_INDIRECT_H
 #include "shared/glsl_cpp.h"

@@ -8,6 +8,20 @@ PN_BEGIN
 #define PIP_LAYER_TOLERANCE 0.05  // layerOver: a layer must stand this fraction of the margin off the receiver's plane
 #define PIP_MAX_TILE_VISITS 256   // penumbra mask: edge-pyramid tiles one pixel's search may read before it gives up (in the mask)
 
+// pip_classify.comp's bindings (raster/pip_classify_pass.cpp binds them).
+#define PIP_BINDING_POSITION 0        // G-buffer position (storage image)
+#define PIP_BINDING_NORMAL 1          // G-buffer shading normal
+#define PIP_BINDING_SHADOW_MAP 2      // the light's depth map (sampled)
+#define PIP_BINDING_THIN_MASK 3       // the thin-triangle mask (sampled)
+#define PIP_BINDING_FRAME 4           // FrameData
+#define PIP_BINDING_VISIBILITY 5      // float per pixel
+#define PIP_BINDING_SM_VISIBILITY 6   // float per pixel: the sm answer where flagged
+#define PIP_BINDING_TRACE_FLAGS 7     // uint per pixel: PIP_* bits
+#define PIP_BINDING_RAY_MAX 8         // float per pixel: the ray's end
+#define PIP_BINDING_COUNT 13          // TraceCount of the list PipPush::appendList fills
+#define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_*
+#define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
+
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
 #define PIP_THIN 2u       // a conservatively rasterized thin triangle covers the neighbourhood in front
