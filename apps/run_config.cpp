@@ -15,6 +15,7 @@
 #include "core/builtin_scenes.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
+#include "apps/declared_options.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
 #include "raytrace/ntree_builder.h"
@@ -122,24 +123,7 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--res", c.resolution, "Image resolution WxH")->capture_default_str();
-  app.option_defaults()->group("Shadow maps");
-  app.add_option("--shadow-map-res", c.shadowMapRes, "Shadow map texels per side (per cube face)")
-      ->capture_default_str()->check(CLI::Range(16u, 16384u));
-  app.add_option("--depth-bias", c.depthBias, "Shadow map constant depth bias (rasterizer units)")->capture_default_str();
-  app.add_option("--slope-bias", c.slopeBias, "Shadow map slope-scaled depth bias")->capture_default_str();
-  app.add_option("--normal-offset", c.normalOffset, "Receiver offset along the normal, in shadow-map texels")->capture_default_str();
-  app.add_option("--shadow-reads", c.shadowReads,
-                 "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, "
-                 "far cheaper on lavapipe), or auto (buffer on CPU devices)")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "texture", "buffer"}));
-  app.add_option("--light-fit", c.lightFit,
-                 "Directional and spot lights (point-like): fit the shadow map to what the camera sees (view) or to "
-                 "the whole scene (scene)")
-      ->capture_default_str()->check(CLI::IsMember({"view", "scene"}));
-  app.add_option("--reuse-light-passes", c.reuseLightPasses,
-                 "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
-                 "still light's map (on), or render them every frame (off)")
-      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
+  addDeclaredOptions(app, c.settings, renderOptions());  // shadow maps, srt
   app.option_defaults()->group("Ray tracing");
   app.add_option("--tracer", c.tracer,
                  "Ray tracer of srt and frt: " + [] {
@@ -154,21 +138,6 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
                "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
-  app.option_defaults()->group("Selective ray tracing (srt)");
-  app.add_option("--pip-delta", c.pipDelta, "PIP depth-edge threshold, fraction of the light's depth range")->capture_default_str();
-  app.add_option("--pip-margin", c.pipMargin, "PIP receiver depth interval widened by this many texels")->capture_default_str();
-  app.add_option("--penumbra-maps", c.penumbraMaps, "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)")
-      ->capture_default_str()->check(CLI::IsMember({1u, 5u}));
-  app.add_flag("--no-thin", c.noThin, "Turn off the thin-triangle conservative pass of srt");
-  app.add_option("--thin-width", c.thinWidth, "Thin triangle: smallest light-space altitude below this many texels")->capture_default_str();
-  app.add_option("--thin-aspect", c.thinAspect, "Thin triangle: and longest edge / altitude at least this")->capture_default_str();
-  app.add_option("--ray-intervals", c.rayIntervals, "Bound srt's hard-shadow rays by the shadow map's blocker depths: on, off")
-      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
-  app.add_option("--srt-choice", c.srtChoice,
-                 "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify "
-                 "and trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd "
-                 "the other again), off always classifies")
-      ->capture_default_str()->check(CLI::IsMember({"auto", "off"}));
   app.option_defaults()->group("Soft shadows and denoising");
   app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
   app.add_flag("--shared-samples", c.sharedSamples,
@@ -303,16 +272,11 @@ std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std
 
 RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
   for (const std::string& m : expandMethods(c, methods)) makeMethod(m);  // unknown names fail before any work
-  for (float v : {c.lightSize, c.depthBias, c.slopeBias, c.normalOffset, c.rayEpsilon, c.pipDelta, c.pipMargin, c.thinWidth,
-                  c.thinAspect}) {
-    requireFinite(v, "numeric options");
-  }
-  if (c.pipDelta < 0.0f || c.pipMargin < 0.0f || c.thinWidth < 0.0f || c.thinAspect < 0.0f) {
-    throw InputError("--pip-delta, --pip-margin, --thin-width and --thin-aspect must be >= 0");
-  }
-  if (c.rayEpsilon < 0.0f || c.normalOffset < 0.0f) throw InputError("--ray-epsilon and --normal-offset must be >= 0");
+  for (float v : {c.lightSize, c.rayEpsilon}) requireFinite(v, "numeric options");
+  if (c.rayEpsilon < 0.0f) throw InputError("--ray-epsilon must be >= 0");
 
   RunSetup s;
+  s.settings = c.settings;  // what the declared options set (the others follow)
   // A built-in level's geometry alone may be over the limit: refused before it is built.
   if (const std::optional<std::uint64_t> triangles = builtinTriangleCount(c.scene)) {
     MemoryEstimate geometry;
@@ -355,18 +319,9 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
 
   s.settings.spp = c.spp;
   s.settings.denoise.mode = parseDenoiseMode(c.denoise);
-  s.settings.reuseLightPasses = c.reuseLightPasses == "on";
-  s.settings.srtChoice = c.srtChoice == "auto";
   // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
   s.settings.referenceSpp =
       c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
-  using Reads = raster::ShadowMapSettings::Reads;
-  const Reads reads = c.shadowReads == "texture" ? Reads::Texture : c.shadowReads == "buffer" ? Reads::Buffer : Reads::Auto;
-  s.settings.shadowMap = {.resolution = c.shadowMapRes,
-                          .depthBiasConstant = c.depthBias,
-                          .depthBiasSlope = c.slopeBias,
-                          .normalOffsetTexels = c.normalOffset,
-                          .reads = reads};
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
   s.settings.msmMaps = c.msmMaps;
   s.settings.sharedSamples = c.sharedSamples;
@@ -407,16 +362,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
                           .budgetBytes = std::uint64_t(c.linespaceBudgetMb * 1e6),
                           .startOffsetCells = c.linespaceOffset,
                           .shadows = parseShadows(c.linespaceShadows)};  // InputError for an unknown mode
-  s.settings.pip = {.deltaFraction = c.pipDelta,
-                    .marginTexels = c.pipMargin,
-                    .thinPass = !c.noThin,
-                    .rayIntervals = c.rayIntervals == "on",
-                    .penumbraMaps = c.penumbraMaps,
-                    .explain = c.explainMisses};
+  s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
-  s.settings.fitLightToView = c.lightFit == "view";
-  s.settings.thin.maxWidthTexels = c.thinWidth;
-  s.settings.thin.minAspect = c.thinAspect;
 
   requireFits(estimateBytes(s.settings, s.scene.triangleCount(), lineSpace), s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
@@ -427,34 +374,34 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
 }
 
 nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Context& context) {
-  return {{"scene", c.scene},
-          {"triangles", s.scene.triangleCount()},
-          {"load_ms", s.scene.loadMs},
-          {"resolution", {s.settings.width, s.settings.height}},
-          {"camera", formatCamera(s.camera, s.scene.origin)},
-          {"light", formatLight(s.light, s.scene.origin)},
-          {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},
-          {"light_size", s.lightSizeFraction},
-          {"time", s.time},
-          {"spp", s.settings.spp},
-          {"shadow_map_res", s.settings.shadowMap.resolution},
-          {"pcf_kernel", c.pcfKernel},
-          {"msm_maps", s.settings.msmMaps},
-          {"shared_samples", s.settings.sharedSamples},
-          {"bitmask", {{"resolution", s.settings.bitmask.resolution}, {"receivers", s.settings.bitmask.receivers},
-                       {"fallback", s.settings.bitmask.fallback}, {"watertight", s.settings.bitmask.watertight},
+  nlohmann::json run{{"scene", c.scene},
+                     {"triangles", s.scene.triangleCount()},
+                     {"load_ms", s.scene.loadMs},
+                     {"resolution", {s.settings.width, s.settings.height}},
+                     {"camera", formatCamera(s.camera, s.scene.origin)},
+                     {"light", formatLight(s.light, s.scene.origin)},
+                     {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},
+                     {"light_size", s.lightSizeFraction},
+                     {"time", s.time},
+                     {"spp", s.settings.spp},
+                     {"pcf_kernel", c.pcfKernel},
+                     {"msm_maps", s.settings.msmMaps},
+                     {"shared_samples", s.settings.sharedSamples},
+                     {"bitmask",
+                      {{"resolution", s.settings.bitmask.resolution},
+                       {"receivers", s.settings.bitmask.receivers},
+                       {"fallback", s.settings.bitmask.fallback},
+                       {"watertight", s.settings.bitmask.watertight},
                        {"decorrelate", s.settings.bitmask.decorrelate}}},
-          {"warmup_frames", c.warmup},
-          {"tracer", c.tracer},
-          {"denoise", c.denoise},
-          {"reuse_light_passes", c.reuseLightPasses},
-          {"srt_choice", c.srtChoice},
-          {"denoise_frames", c.denoiseFrames},
-          {"pip", {{"delta", c.pipDelta}, {"margin_texels", c.pipMargin}, {"thin_pass", !c.noThin},
-                   {"penumbra_maps", c.penumbraMaps}, {"thin_width_texels", c.thinWidth}, {"thin_aspect", c.thinAspect}, {"ray_intervals", c.rayIntervals}, {"shadow_reads", c.shadowReads}, {"light_fit", c.lightFit}}},
-          {"warnings", s.scene.warnings},
-          {"device", context.deviceName()},
-          {"driver", context.driverInfo()}};
+                     {"warmup_frames", c.warmup},
+                     {"tracer", c.tracer},
+                     {"denoise", c.denoise},
+                     {"denoise_frames", c.denoiseFrames},
+                     {"warnings", s.scene.warnings},
+                     {"device", context.deviceName()},
+                     {"driver", context.driverInfo()}};
+  recordDeclaredOptions(run, s.settings, renderOptions());  // shadow_map_res, pip/delta, srt_choice, ...
+  return run;
 }
 
 void appendCsv(const std::string& path, const std::vector<Frame>& frames, const nlohmann::json& context) {

@@ -28,7 +28,6 @@ struct RunConfig {
   bool timeGiven = false;
   std::uint32_t spp = 16, referenceSpp = 0;
   std::string resolution = "256x256";
-  std::uint32_t shadowMapRes = 2048;
   std::string pcfKernel = "3x3";
   std::uint32_t msmMaps = 4;  // shadow maps averaged by method msm
   bool sharedSamples = false;      // every pixel uses the same light samples (bitmask's pattern)
@@ -37,7 +36,7 @@ struct RunConfig {
   std::string bitmaskFallback = "srt";  // method bitmask: srt or frt for the pixels off the receiver
   bool bitmaskWatertight = false;       // method bitmask: drop the casters' front faces
   bool bitmaskDecorrelate = false;      // method bitmask: the pattern under a symmetry per texel
-  float depthBias = 1.0f, slopeBias = 0.0f, normalOffset = 0.75f, rayEpsilon = 1e-4f;
+  float rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file
@@ -54,21 +53,19 @@ struct RunConfig {
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
   float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored
   std::string linespaceShadows = "binary";          // line space: binary (shaft bits) or exact (leaf triangles)
-  float pipDelta = 0.002f, pipMargin = 1.0f;
-  bool noThin = false;
   bool explainMisses = false;  // compare: why srt left out each pixel sm gets wrong (hard shadows)
-  std::uint32_t penumbraMaps = 1;  // area lights: 1 or 5 shadow maps for the penumbra mask
-  float thinWidth = 1.0f, thinAspect = 4.0f;
-  std::string rayIntervals = "off";
-  std::string srtChoice = "auto";  // auto: srt takes the cheaper of its paths per frame (RenderSettings::srtChoice)
-  std::string reuseLightPasses = "off";  // on: a still light's shadow map and edge pyramid are kept (the demo's default)
-  std::string shadowReads = "auto";
-  std::string lightFit = "scene";
   bool validate = false;
   bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
   std::string denoise = "off";     // srt/frt with an area light: off, spatial, temporal (hybrid/denoise_pass.h)
   std::uint32_t denoiseFrames = 8;  // temporal: the frame of the sequence (after a cut) that is measured
   std::string outDir = "out";
+  // What the declared options set (renderOptions(): shadow maps, classification, srt's path), with
+  // the command line's defaults: srt chooses its path per frame (--srt-choice auto).
+  RenderSettings settings = [] {
+    RenderSettings s;
+    s.srtChoice = true;
+    return s;
+  }();
 };
 
 struct RunSetup {

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/options.h"
 #include "hybrid/denoise_pass.h"
 #include "hybrid/indirect_pass.h"
 #include "raster/bitmask_pass.h"
@@ -48,5 +49,9 @@ struct RenderSettings {
   raster::BitmaskSettings bitmask;   // method bitmask: map resolution, receiver
   IndirectSettings indirect;         // methods ao and indirect: rays per pixel, ao radius, tracer
 };
+
+// The options of the settings declared where they are used (the passes' own and RenderSettings'),
+// as the command line takes them (apps/declared_options.h).
+const Options<RenderSettings>& renderOptions();
 
 }  // namespace penumbra

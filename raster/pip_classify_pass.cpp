@@ -23,6 +23,25 @@ constexpr gpu::Binding kBindings[] = {
 
 }  // namespace
 
+const Options<PipSettings>& pipOptions() {
+  static const Options<PipSettings> options = [] {
+    Options<PipSettings> o("Selective ray tracing (srt)");
+    o.number("--pip-delta", "pip/delta", &PipSettings::deltaFraction,
+             "PIP depth-edge threshold, fraction of the light's depth range", 0.0f);
+    o.number("--pip-margin", "pip/margin_texels", &PipSettings::marginTexels,
+             "PIP receiver depth interval widened by this many texels", 0.0f);
+    o.choice("--penumbra-maps", "pip/penumbra_maps", &PipSettings::penumbraMaps,
+             "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)",
+             {{"1", 1u}, {"5", 5u}});
+    o.flag("--no-thin", "pip/thin_pass", &PipSettings::thinPass, "Turn off the thin-triangle conservative pass of srt",
+           false);
+    o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,
+             "Bound srt's hard-shadow rays by the shadow map's blocker depths", {{"on", true}, {"off", false}});
+    return o;
+  }();
+  return options;
+}
+
 PipClassifyPass::PipClassifyPass(const gpu::Context& context)
     : pipeline_(context, pip_classify_comp, kBindings, sizeof(shared::PipPush), "pip classify pipeline") {}
 

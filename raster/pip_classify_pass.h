@@ -6,6 +6,7 @@
 #include "raster/depth_pyramid_pass.h"
 #include "raster/gbuffer_pass.h"
 #include "raster/shadow_map_pass.h"
+#include "core/options.h"
 #include "shared/pip.h"
 
 namespace penumbra::raster {
@@ -20,6 +21,9 @@ struct PipSettings {
                                   // pass makes it from the flags, as it must when corner maps add flags)
   bool explain = false;           // hard shadows: write why each unflagged pixel was left out (PIP_WHY_*)
 };
+
+// The command line's options of the classification (--pip-delta, --ray-intervals, ...).
+const Options<PipSettings>& pipOptions();
 
 // Per-pixel outputs the classification writes and compaction reads.
 struct PipBuffers {

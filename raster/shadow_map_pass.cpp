@@ -29,6 +29,26 @@ static_assert(sizeof(shared::ShadowMapInfo) == 448, "std430 layout of shared/fra
 
 }  // namespace
 
+const Options<ShadowMapSettings>& shadowMapOptions() {
+  static const Options<ShadowMapSettings> options = [] {
+    using S = ShadowMapSettings;
+    Options<S> o("Shadow maps");
+    o.number("--shadow-map-res", "shadow_map_res", &S::resolution, "Shadow map texels per side (per cube face)", 16u,
+             16384u);
+    o.number("--depth-bias", "shadow_map/depth_bias", &S::depthBiasConstant,
+             "Shadow map constant depth bias (rasterizer units)");
+    o.number("--slope-bias", "shadow_map/slope_bias", &S::depthBiasSlope, "Shadow map slope-scaled depth bias");
+    o.number("--normal-offset", "shadow_map/normal_offset", &S::normalOffsetTexels,
+             "Receiver offset along the normal, in shadow-map texels", 0.0f);
+    o.choice("--shadow-reads", "shadow_map/reads", &S::reads,
+             "How passes read shadow maps: texture (sampled image, right on a GPU), buffer (a storage-buffer copy, far "
+             "cheaper on lavapipe), or auto (buffer on CPU devices)",
+             {{"auto", S::Reads::Auto}, {"texture", S::Reads::Texture}, {"buffer", S::Reads::Buffer}});
+    return o;
+  }();
+  return options;
+}
+
 shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bounds& bounds, const ShadowMapSettings& settings,
                                         bool forceCube, float clearance) {
   shared::ShadowMapInfo info{};

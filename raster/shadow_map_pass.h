@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 
+#include "core/options.h"
 #include "core/scene.h"
 #include "gpu/pipeline.h"
 #include "raster/scene_geometry.h"
@@ -30,6 +31,9 @@ struct ShadowMapSettings {
 
 // settings.reads resolved for this device: true when the maps get texel copies, which the passes
 // then read (their pipelines are specialized on it: hasTexelCopy()).
+// The command line's options of the light's maps (--shadow-map-res, the biases, --shadow-reads).
+const Options<ShadowMapSettings>& shadowMapOptions();
+
 bool bufferReads(const gpu::Context& context, const ShadowMapSettings& settings);
 // The texel copy of a light depth map for those reads (a 4-byte stand-in when they are off).
 gpu::Buffer makeTexelBuffer(const gpu::Context& context, const gpu::Image& depth, const ShadowMapSettings& settings);

@@ -63,6 +63,18 @@ shared::ThinTrianglePush pushFor(const shared::ShadowMapInfo& info, std::uint32_
 
 }  // namespace
 
+const Options<ThinTriangleSettings>& thinOptions() {
+  static const Options<ThinTriangleSettings> options = [] {
+    Options<ThinTriangleSettings> o("Selective ray tracing (srt)");
+    o.number("--thin-width", "thin/width_texels", &ThinTriangleSettings::maxWidthTexels,
+             "Thin triangle: smallest light-space altitude below this many texels", 0.0f);
+    o.number("--thin-aspect", "thin/aspect", &ThinTriangleSettings::minAspect,
+             "Thin triangle: and longest edge / altitude at least this", 0.0f);
+    return o;
+  }();
+  return options;
+}
+
 ThinTrianglePass::ThinTrianglePass(const gpu::Context& context, const ShadowMapSettings& settings, std::uint32_t faceCount,
                                    ThinTriangleSettings thin)
     : settings_(settings),

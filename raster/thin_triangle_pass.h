@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/options.h"
 #include "gpu/pipeline.h"
 #include "raster/scene_geometry.h"
 #include "raster/shadow_map_pass.h"
@@ -33,6 +34,9 @@ struct ThinTriangleSettings {
   // draws the whole scene instead (the geometry shader still keeps only the thin ones).
   std::uint32_t listCapacity = 0;
 };
+
+// The command line's options of the thin-triangle pass (--thin-width, --thin-aspect).
+const Options<ThinTriangleSettings>& thinOptions();
 
 class ThinTrianglePass {
  public:

@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
   CLI::App app{"penumbra-demo: real-time hybrid shadows in a window (GLFW + OpenGL + Dear ImGui); "
                "--frames N for a scripted run"};
   RunConfig config;
-  config.reuseLightPasses = "on";  // interactive: a still light's map is kept, as an engine keeps it
+  config.settings.reuseLightPasses = true;  // interactive: a still light's map is kept, as an engine keeps it
   addRunOptions(app, config);
   std::string method = "srt";
   app.add_option("--method", method, "Method: " + [] {

@@ -1,0 +1,32 @@
+#include "hybrid/render_settings.h"
+
+namespace penumbra {
+
+const Options<RenderSettings>& renderOptions() {
+  static const Options<RenderSettings> options = [] {
+    using S = RenderSettings;
+    Options<S> o;
+    o.add(&S::shadowMap, raster::shadowMapOptions());
+    o.group("Shadow maps");
+    o.choice("--light-fit", "light_fit", &S::fitLightToView,
+             "Directional and spot lights (point-like): fit the shadow map to what the camera sees (view) or to the "
+             "whole scene (scene)",
+             {{"view", true}, {"scene", false}});
+    o.choice("--reuse-light-passes", "reuse_light_passes", &S::reuseLightPasses,
+             "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
+             "still light's map (on), or render them every frame (off)",
+             {{"on", true}, {"off", false}});
+    o.add(&S::pip, raster::pipOptions());
+    o.add(&S::thin, raster::thinOptions());
+    o.group("Selective ray tracing (srt)");
+    o.choice("--srt-choice", "srt_choice", &S::srtChoice,
+             "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify and "
+             "trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd the other "
+             "again), off always classifies",
+             {{"auto", true}, {"off", false}});
+    return o;
+  }();
+  return options;
+}
+
+}  // namespace penumbra
