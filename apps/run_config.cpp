@@ -123,7 +123,6 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--view", c.viewFile, "JSON view file pinning camera, light, light size and resolution");
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--res", c.resolution, "Image resolution WxH")->capture_default_str();
-  addDeclaredOptions(app, c.settings, renderOptions());  // shadow maps, srt
   app.option_defaults()->group("Ray tracing");
   app.add_option("--tracer", c.tracer,
                  "Ray tracer of srt and frt: " + [] {
@@ -138,11 +137,9 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
                "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
+  addDeclaredOptions(app, c.settings, renderOptions());  // shadow maps, srt, baselines, indirect, ...
   app.option_defaults()->group("Soft shadows and denoising");
   app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
-  app.add_flag("--shared-samples", c.sharedSamples,
-               "Every pixel uses the same light samples, the pattern method bitmask looks up, so that ref, frt and srt "
-               "see bitmask's samples (default: a pattern per pixel)");
   app.add_option("--denoise", c.denoise,
                  "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
       ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
@@ -152,58 +149,24 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->capture_default_str()->check(CLI::Range(1u, 1000u));
   app.option_defaults()->group("Baselines: pcf, msm, bitmask");
   app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
-  app.add_option("--msm-maps", c.msmMaps, "Shadow maps (light samples) averaged by method msm")
-      ->capture_default_str()->check(CLI::Range(1u, 256u));
-  app.add_option("--bitmask-res", c.bitmaskRes, "Method bitmask: texels per side of the receiver's hidden-samples map")
-      ->capture_default_str()->check(CLI::Range(16u, 4096u));
   app.add_option("--bitmask-receivers", c.bitmaskReceivers,
                  "Method bitmask: the planar meshes that receive its shadows, comma-separated, at most 4 (default: "
                  "the planar meshes of at least 1% of the largest one's area)");
-  app.add_option("--bitmask-fallback", c.bitmaskFallback,
-                 "Method bitmask: how pixels off the receiver are answered: srt (classified, only doubtful ones traced) or "
-                 "frt (all traced)")
-      ->capture_default_str()->check(CLI::IsMember({"srt", "frt"}));
-  app.add_flag("--bitmask-watertight", c.bitmaskWatertight,
-               "Method bitmask: the casters are closed surfaces wound counter-clockwise seen from outside; their triangles "
-               "that face the whole light are dropped (about half the fill; wrong shadows for open surfaces)");
-  app.add_flag("--bitmask-decorrelate", c.bitmaskDecorrelate,
-               "Method bitmask: each map texel sees the light samples under one of the square's 8 symmetries (noise "
-               "instead of aliasing; the reference no longer has the same samples)");
   app.option_defaults()->group("Indirect light: ao, indirect");
-  app.add_option("--indirect-rays", c.indirectRays, "Methods ao and indirect: cosine-weighted rays per pixel")
-      ->capture_default_str()->check(CLI::Range(1u, INDIRECT_MAX_RAYS));
   app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--hit-light", c.hitLight,
-                 "Method indirect: a bounce's hit sees the light through a shadow ray (exact) or the light's shadow map "
-                 "(sm's answer, no ray); the Embree reference always traces the ray")
-      ->capture_default_str()->check(CLI::IsMember({"shadow-ray", "shadow-map"}));
-  app.add_option("--bvh-ls-depth", c.bvhLsDepth,
-                 "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes "
-                 "at this depth (root 0); deeper = closer to exact, more memory")
-      ->capture_default_str()->check(CLI::Range(0u, 30u));
   app.add_option("--ntree-ls-depth", c.ntreeLsDepth,
                  "Tracer ntree-ls of ao/indirect (the paper's NTree(N,d)+LS(D)): candidate line spaces at the N-tree's "
                  "(--linespace-n, --linespace-depth) nodes at level D (0..d-1; -1 = d-1) and at shallower nodes with "
                  "fewer than --ntree-ls-min-triangles triangles; the bounces' shadow rays use the binary line space. "
                  "Tracer ntree: the same N-tree's line space in exact mode (exact closest hits)")
       ->capture_default_str()->check(CLI::Range(-1, int(LS_MAX_DEPTH) - 1));
-  app.add_option("--ntree-ls-min-triangles", c.ntreeLsMinTriangles,
-                 "Tracer ntree-ls: shallower N-tree nodes with fewer triangles than this get a line space too (0: none)")
-      ->capture_default_str();
-  app.add_option("--candidate-deviation", c.candidateDeviation,
-                 "Candidate line spaces: drop a plane hit whose extrapolated normal leans more than this many degrees "
-                 "from the candidate's face normal (180 keeps all)")
-      ->capture_default_str()->check(CLI::Range(0.0f, 180.0f));
   app.option_defaults()->group("Line space");
   app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
   app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
   app.add_option("--linespace-budget", c.linespaceBudgetMb,
                  "Line space: memory budget of its pools in MB (0 = a quarter of the available memory)")
       ->capture_default_str();
-  app.add_option("--linespace-offset", c.linespaceOffset,
-                 "Line space: ignore occluders within this many leaf cells of the receiver's surface (0 = the paper's start-node rule alone)")
-      ->capture_default_str()->check(CLI::Range(0.0f, 16.0f));
   app.add_option("--ls-shadows,--linespace-shadows", c.linespaceShadows,
                  "Line space: shadow rays answered by the shaft bits alone (binary: fast, conservative, thin casters "
                  "shadow as whole cells, no contact shadows) or by the leaf cells' triangles the set bits lead to "
@@ -323,31 +286,20 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.referenceSpp =
       c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
   s.settings.pcfFilter = pcfFilter(c.pcfKernel);
-  s.settings.msmMaps = c.msmMaps;
-  s.settings.sharedSamples = c.sharedSamples;
-  s.settings.bitmask = {.resolution = c.bitmaskRes,
-                        .receivers = c.bitmaskReceivers.empty() ? std::vector<std::string>{} : splitList(c.bitmaskReceivers),
-                        .fallback = c.bitmaskFallback,
-                        .watertight = c.bitmaskWatertight,
-                        .decorrelate = c.bitmaskDecorrelate};
+  if (!c.bitmaskReceivers.empty()) s.settings.bitmask.receivers = splitList(c.bitmaskReceivers);
   s.settings.rayEpsilon = c.rayEpsilon;
   s.settings.tracer = c.tracer.find(',') == std::string::npos ? c.tracer : "auto";  // a list: ao and indirect only
   if (c.tracer.find(',') == std::string::npos && isIndirectTracer(c.tracer == "auto" ? "bvh" : c.tracer)) {
     s.settings.indirect.tracer = c.tracer == "auto" ? "bvh" : c.tracer;  // bare ao and indirect (bench sweeps it)
   }
-  s.settings.indirect.rays = c.indirectRays;
   requireFinite(c.aoRadius, "--ao-radius");
   s.settings.indirect.aoRadius = c.aoRadius;
-  s.settings.indirect.bvhDepth = c.bvhLsDepth;
   if (c.ntreeLsDepth >= int(c.linespaceDepth)) {
     throw InputError("--ntree-ls-depth " + std::to_string(c.ntreeLsDepth) + ": the N-tree's subdivided nodes are at "
                      "levels 0.." + std::to_string(c.linespaceDepth - 1) + " (--linespace-depth " +
                      std::to_string(c.linespaceDepth) + "); choose a smaller D or -1 (d - 1)");
   }
   s.settings.indirect.ntreeDepth = c.ntreeLsDepth < 0 ? NTreeCandidateSettings::kSecondToLast : std::uint32_t(c.ntreeLsDepth);
-  s.settings.indirect.ntreeMinTriangles = c.ntreeLsMinTriangles;
-  s.settings.indirect.hitShadowMap = c.hitLight == "shadow-map";
-  s.settings.indirect.maxDeviationDeg = c.candidateDeviation;
   // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth.
   bool lineSpace = std::find(methods.begin(), methods.end(), "ls") != methods.end();
   for (const std::string& t : c.tracer.empty() ? std::vector<std::string>{} : splitList(c.tracer)) {
@@ -357,11 +309,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {
     throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");
   }
-  s.settings.lineSpace = {.n = c.linespaceN,
-                          .depth = c.linespaceDepth,
-                          .budgetBytes = std::uint64_t(c.linespaceBudgetMb * 1e6),
-                          .startOffsetCells = c.linespaceOffset,
-                          .shadows = parseShadows(c.linespaceShadows)};  // InputError for an unknown mode
+  s.settings.lineSpace.n = c.linespaceN;
+  s.settings.lineSpace.depth = c.linespaceDepth;
+  s.settings.lineSpace.budgetBytes = std::uint64_t(c.linespaceBudgetMb * 1e6);
+  s.settings.lineSpace.shadows = parseShadows(c.linespaceShadows);  // InputError for an unknown mode
   s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
 
@@ -385,14 +336,7 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
                      {"time", s.time},
                      {"spp", s.settings.spp},
                      {"pcf_kernel", c.pcfKernel},
-                     {"msm_maps", s.settings.msmMaps},
-                     {"shared_samples", s.settings.sharedSamples},
-                     {"bitmask",
-                      {{"resolution", s.settings.bitmask.resolution},
-                       {"receivers", s.settings.bitmask.receivers},
-                       {"fallback", s.settings.bitmask.fallback},
-                       {"watertight", s.settings.bitmask.watertight},
-                       {"decorrelate", s.settings.bitmask.decorrelate}}},
+                     {"bitmask", {{"receivers", s.settings.bitmask.receivers}}},
                      {"warmup_frames", c.warmup},
                      {"tracer", c.tracer},
                      {"denoise", c.denoise},

@@ -29,29 +29,17 @@ struct RunConfig {
   std::uint32_t spp = 16, referenceSpp = 0;
   std::string resolution = "256x256";
   std::string pcfKernel = "3x3";
-  std::uint32_t msmMaps = 4;  // shadow maps averaged by method msm
-  bool sharedSamples = false;      // every pixel uses the same light samples (bitmask's pattern)
-  std::uint32_t bitmaskRes = 512;  // method bitmask: hidden-samples map texels per side
   std::string bitmaskReceivers;    // method bitmask: the receiver meshes, comma-separated (empty: detected)
-  std::string bitmaskFallback = "srt";  // method bitmask: srt or frt for the pixels off the receiver
-  bool bitmaskWatertight = false;       // method bitmask: drop the casters' front faces
-  bool bitmaskDecorrelate = false;      // method bitmask: the pattern under a symmetry per texel
   float rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file
   bool noReport = false;     // compare: skip report.html (report.py and matplotlib)
   std::string tracer = "auto";  // one tracer, or for methods ao and indirect a comma-separated list
-  std::uint32_t indirectRays = 16;  // ao / indirect: rays per pixel
   float aoRadius = 0.1f;            // ao: fraction of the scene radius
-  std::string hitLight = "shadow-ray";  // indirect: how a bounce's hit sees the light
-  std::uint32_t bvhLsDepth = 9;     // tracer bvh-ls: BVH depth of the candidate line spaces
   int ntreeLsDepth = -1;            // tracer ntree-ls: N-tree level D of the candidate line spaces (-1: d - 1)
-  std::uint32_t ntreeLsMinTriangles = 8;  // tracer ntree-ls: the T rule
-  float candidateDeviation = 30.0f;  // candidate line spaces: largest extrapolated-normal deviation, degrees
   std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
   double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
-  float linespaceOffset = 1.0f;                     // line space: occluders this many leaf cells near the surface ignored
   std::string linespaceShadows = "binary";          // line space: binary (shaft bits) or exact (leaf triangles)
   bool explainMisses = false;  // compare: why srt left out each pixel sm gets wrong (hard shadows)
   bool validate = false;

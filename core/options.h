@@ -54,7 +54,8 @@ class Options {
       std::istringstream in(text);
       T value{};
       char extra = 0;
-      if (!(in >> value) || in >> extra || !std::isfinite(double(value)) || value < lo || value > hi) {
+      const bool negativeUnsigned = std::is_unsigned_v<T> && text.find('-') != std::string::npos;  // ">>" wraps it
+      if (negativeUnsigned || !(in >> value) || in >> extra || !std::isfinite(double(value)) || value < lo || value > hi) {
         std::ostringstream range;
         const bool low = lo != std::numeric_limits<T>::lowest(), high = hi != std::numeric_limits<T>::max();
         if (low && high) range << " in " << lo << ".." << hi;

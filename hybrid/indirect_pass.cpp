@@ -87,6 +87,31 @@ vk::DeviceSize triangleBytes(const gpu::Context& context, const Scene& scene) {
 
 }  // namespace
 
+const Options<IndirectSettings>& indirectOptions() {
+  static const Options<IndirectSettings> options = [] {
+    using S = IndirectSettings;
+    Options<S> o("Indirect light: ao, indirect");
+    o.number("--indirect-rays", "indirect/rays", &S::rays, "Methods ao and indirect: cosine-weighted rays per pixel", 1u,
+             INDIRECT_MAX_RAYS);
+    o.choice("--hit-light", "indirect/hit_light", &S::hitShadowMap,
+             "Method indirect: a bounce's hit sees the light through a shadow ray (exact) or the light's shadow map "
+             "(sm's answer, no ray); the Embree reference always traces the ray",
+             {{"shadow-ray", false}, {"shadow-map", true}});
+    o.number("--bvh-ls-depth", "indirect/bvh_ls_depth", &S::bvhDepth,
+             "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes at this "
+             "depth (root 0); deeper = closer to exact, more memory",
+             0u, 30u);
+    o.number("--ntree-ls-min-triangles", "indirect/ntree_ls_min_triangles", &S::ntreeMinTriangles,
+             "Tracer ntree-ls: shallower N-tree nodes with fewer triangles than this get a line space too (0: none)");
+    o.number("--candidate-deviation", "indirect/candidate_deviation_deg", &S::maxDeviationDeg,
+             "Candidate line spaces: drop a plane hit whose extrapolated normal leans more than this many degrees from "
+             "the candidate's face normal (180 keeps all)",
+             0.0f, 180.0f);
+    return o;
+  }();
+  return options;
+}
+
 const std::vector<std::string>& indirectTracers() {
   static const std::vector<std::string> names{"bvh", "rq", "bvh-ls", "ntree", "ntree-ls", "embree"};
   return names;

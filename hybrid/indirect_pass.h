@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "core/scene.h"
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
@@ -38,6 +39,10 @@ struct IndirectSettings {
   float maxDeviationDeg = 30.0f;
   bool hitShadowMap = false;  // indirect: the bounces' hits see the light through the shadow map, not a shadow ray
 };
+
+// The command line's options of methods ao and indirect (--indirect-rays, ...; --ao-radius,
+// --ntree-ls-depth and the tracer list are parsed with the run).
+const Options<IndirectSettings>& indirectOptions();
 
 // What the kernels read and write: the camera's G-buffer, the light's map (for hits that look the
 // light up in it), the frame data and the output (vec4 per pixel).

@@ -24,6 +24,15 @@ const Options<RenderSettings>& renderOptions() {
              "trace the doubtful pixels, or trace every covered pixel; the first frame runs both, every 32nd the other "
              "again), off always classifies",
              {{"auto", true}, {"off", false}});
+    o.group("Soft shadows and denoising");
+    o.flag("--shared-samples", "shared_samples", &S::sharedSamples,
+           "Every pixel uses the same light samples, the pattern method bitmask looks up, so that ref, frt and srt see "
+           "bitmask's samples (default: a pattern per pixel)");
+    o.group("Baselines: pcf, msm, bitmask");
+    o.number("--msm-maps", "msm_maps", &S::msmMaps, "Shadow maps (light samples) averaged by method msm", 1u, 256u);
+    o.add(&S::bitmask, raster::bitmaskOptions());
+    o.add(&S::indirect, indirectOptions());
+    o.add(&S::lineSpace, lineSpaceOptions());
     return o;
   }();
   return options;

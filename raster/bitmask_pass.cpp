@@ -66,6 +66,27 @@ constexpr auto kStorage = vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUs
 
 }  // namespace
 
+const Options<BitmaskSettings>& bitmaskOptions() {
+  static const Options<BitmaskSettings> options = [] {
+    using S = BitmaskSettings;
+    Options<S> o("Baselines: pcf, msm, bitmask");
+    o.number("--bitmask-res", "bitmask/resolution", &S::resolution,
+             "Method bitmask: texels per side of the receiver's hidden-samples map", 16u, 4096u);
+    o.choice("--bitmask-fallback", "bitmask/fallback", &S::fallback,
+             "Method bitmask: how pixels off the receiver are answered: srt (classified, only doubtful ones traced) or "
+             "frt (all traced)",
+             {{"srt", std::string("srt")}, {"frt", std::string("frt")}});
+    o.flag("--bitmask-watertight", "bitmask/watertight", &S::watertight,
+           "Method bitmask: the casters are closed surfaces wound counter-clockwise seen from outside; their triangles "
+           "that face the whole light are dropped (about half the fill; wrong shadows for open surfaces)");
+    o.flag("--bitmask-decorrelate", "bitmask/decorrelate", &S::decorrelate,
+           "Method bitmask: each map texel sees the light samples under one of the square's 8 symmetries (noise "
+           "instead of aliasing; the reference no longer has the same samples)");
+    return o;
+  }();
+  return options;
+}
+
 BitmaskTable::BitmaskTable(const gpu::Context& context)
     : context_(context),
       pipeline_(context, bitmask_table_comp, kTableBindings, sizeof(shared::BitmaskTablePush), "bitmask Hough table"),

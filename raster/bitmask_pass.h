@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/options.h"
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
 #include "raster/scene_geometry.h"
@@ -35,6 +36,10 @@ struct BitmaskSettings {
   bool watertight = false;         // the casters are closed surfaces wound counter-clockwise: drop their front faces
   bool decorrelate = false;        // each texel sees the pattern under one of the square's symmetries (texelSymmetry)
 };
+
+// The command line's options of method bitmask (--bitmask-res, ...; --bitmask-receivers is parsed
+// with the scene).
+const Options<BitmaskSettings>& bitmaskOptions();
 
 // The Hough table (bitmask_table.comp) of the shared pattern's samples under one light: built when
 // the light's type, the sample count or the frame's pattern shift change, shared by every

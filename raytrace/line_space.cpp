@@ -14,6 +14,18 @@
 #include "raytrace/shaft_table.h"
 
 namespace penumbra {
+
+const Options<LineSpaceSettings>& lineSpaceOptions() {
+  static const Options<LineSpaceSettings> options = [] {
+    Options<LineSpaceSettings> o("Line space");
+    o.number("--linespace-offset", "line_space/offset_cells", &LineSpaceSettings::startOffsetCells,
+             "Line space: ignore occluders within this many leaf cells of the receiver's surface (0 = the paper's "
+             "start-node rule alone)",
+             0.0f, 16.0f);
+    return o;
+  }();
+  return options;
+}
 const char* shadowsName(LineSpaceSettings::Shadows shadows) {
   return shadows == LineSpaceSettings::Shadows::Exact ? "exact" : "binary";
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/options.h"
 #include "raytrace/ntree_builder.h"
 #include "shared/bvh.h"
 #include "shared/linespace.h"
@@ -40,6 +41,10 @@ struct LineSpaceSettings {
   // BVH's. Exact adds the leaf records, triangle lists and triangles to the pools.
   enum class Shadows { Binary, Exact } shadows = Shadows::Binary;
 };
+
+// The command line's options of the line space that need no other to check them (--linespace-offset;
+// N, d, the budget and the shadow mode are parsed with the run).
+const Options<LineSpaceSettings>& lineSpaceOptions();
 
 // "binary" / "exact" and back; parseShadows throws InputError naming the valid values.
 const char* shadowsName(LineSpaceSettings::Shadows shadows);
