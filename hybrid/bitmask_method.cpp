@@ -10,11 +10,10 @@
 #include <string>
 
 #include "core/planar_receivers.h"
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 #include "raster/bitmask_pass.h"
-#include "shared/compact.h"
 
 namespace penumbra {
 namespace {

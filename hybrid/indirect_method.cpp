@@ -11,9 +11,9 @@
 #include <utility>
 
 #include "core/units.h"
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 #include "raytrace/scene_triangles.h"
 
 namespace penumbra {

@@ -17,9 +17,9 @@
 #include <span>
 #include <vector>
 
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

@@ -3,9 +3,9 @@
 // covered pixel on all CPU cores.
 #include <chrono>
 
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

@@ -1,9 +1,9 @@
 // Methods sm, pcf and pcss: camera pass, light pass, and a shadow-map lookup from the light's
 // centre (unfiltered for sm, the configured PCF kernel for pcf, blocker search + penumbra-sized PCF
 // for pcss). sm and pcf treat area lights as their centre; pcss uses the light's size.
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 
 namespace penumbra {
 namespace {

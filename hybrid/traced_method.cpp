@@ -11,11 +11,10 @@
 #include <string>
 #include <utility>
 
+#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
-#include "hybrid/frame_context.h"
 #include "raytrace/bandwidth_model.h"
-#include "shared/compact.h"
 #include "shared/trace.h"
 
 namespace penumbra {
