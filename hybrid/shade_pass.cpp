@@ -6,10 +6,13 @@
 namespace penumbra {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},  {1, vk::DescriptorType::eStorageImage},
-                                      {2, vk::DescriptorType::eStorageImage},  {3, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer},
-                                      {6, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kBindings[] = {{SHADE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+                                      {SHADE_BINDING_NORMAL, vk::DescriptorType::eStorageImage},
+                                      {SHADE_BINDING_ALBEDO, vk::DescriptorType::eStorageImage},
+                                      {SHADE_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
+                                      {SHADE_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+                                      {SHADE_BINDING_COLOR, vk::DescriptorType::eStorageBuffer},
+                                      {SHADE_BINDING_INDIRECT, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -19,13 +22,13 @@ void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuffer
                        const gpu::Buffer& visibility, const gpu::Buffer& indirect, const gpu::Buffer& color,
                        Term term) const {
   pipeline_.bind(cmd, gpu::Descriptors{}
-                          .storageImage(0, gbuffer.position().view())
-                          .storageImage(1, gbuffer.normal().view())
-                          .storageImage(2, gbuffer.albedo().view())
-                          .buffer(3, frame)
-                          .buffer(4, visibility)
-                          .buffer(5, color)
-                          .buffer(6, indirect));
+                          .storageImage(SHADE_BINDING_POSITION, gbuffer.position().view())
+                          .storageImage(SHADE_BINDING_NORMAL, gbuffer.normal().view())
+                          .storageImage(SHADE_BINDING_ALBEDO, gbuffer.albedo().view())
+                          .buffer(SHADE_BINDING_FRAME, frame)
+                          .buffer(SHADE_BINDING_VISIBILITY, visibility)
+                          .buffer(SHADE_BINDING_COLOR, color)
+                          .buffer(SHADE_BINDING_INDIRECT, indirect));
   pipeline_.pushConstants(cmd, std::uint32_t(term));
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);

@@ -6,13 +6,13 @@
 namespace penumbra::raster {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage},
-                                      {1, vk::DescriptorType::eStorageImage},
-                                      {2, vk::DescriptorType::eCombinedImageSampler},
-                                      {3, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer},
-                                      {5, vk::DescriptorType::eStorageBuffer},
-                                      {6, vk::DescriptorType::eStorageImage}};
+constexpr gpu::Binding kBindings[] = {{LOOKUP_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+                                      {LOOKUP_BINDING_NORMAL, vk::DescriptorType::eStorageImage},
+                                      {LOOKUP_BINDING_SHADOW_MAP, vk::DescriptorType::eCombinedImageSampler},
+                                      {LOOKUP_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
+                                      {LOOKUP_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+                                      {LOOKUP_BINDING_SHADOW_TEXELS, vk::DescriptorType::eStorageBuffer},
+                                      {LOOKUP_BINDING_FACE_NORMAL, vk::DescriptorType::eStorageImage}};
 
 // Matches the shader's push block.
 struct LookupPush {
@@ -28,13 +28,13 @@ void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferP
                               const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight) const {
   const gpu::ComputePipeline& pipeline = pipeline_(shadowMap.hasTexelCopy());
   pipeline.bind(cmd, gpu::Descriptors{}
-                         .storageImage(0, gbuffer.position().view())
-                         .storageImage(1, gbuffer.normal().view())
-                         .sampledImage(2, shadowMap.depth().view(), shadowMap.sampler())
-                         .buffer(3, frame)
-                         .buffer(4, visibility)
-                         .buffer(5, shadowMap.texels())
-                         .storageImage(6, gbuffer.faceNormal().view()));
+                         .storageImage(LOOKUP_BINDING_POSITION, gbuffer.position().view())
+                         .storageImage(LOOKUP_BINDING_NORMAL, gbuffer.normal().view())
+                         .sampledImage(LOOKUP_BINDING_SHADOW_MAP, shadowMap.depth().view(), shadowMap.sampler())
+                         .buffer(LOOKUP_BINDING_FRAME, frame)
+                         .buffer(LOOKUP_BINDING_VISIBILITY, visibility)
+                         .buffer(LOOKUP_BINDING_SHADOW_TEXELS, shadowMap.texels())
+                         .storageImage(LOOKUP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view()));
   pipeline.pushConstants(cmd, LookupPush{accumulateWeight});
   cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
                (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);

@@ -7,13 +7,13 @@
 #include "shared/frame.h"
 #include "shared/raster.h"
 layout(local_size_x = LOOKUP_GROUP_SIZE, local_size_y = LOOKUP_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(binding = 2, rgba8) uniform readonly image2D gAlbedo;
-layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 4) readonly buffer Visibility { float visibility[]; };
-layout(std430, binding = 5) writeonly buffer Color { uint color[]; };
-layout(std430, binding = 6) readonly buffer Indirect { vec4 indirect[]; };  // rgb one-bounce light, a occlusion
+layout(binding = SHADE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = SHADE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(binding = SHADE_BINDING_ALBEDO, rgba8) uniform readonly image2D gAlbedo;
+layout(std430, binding = SHADE_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = SHADE_BINDING_VISIBILITY) readonly buffer Visibility { float visibility[]; };
+layout(std430, binding = SHADE_BINDING_COLOR) writeonly buffer Color { uint color[]; };
+layout(std430, binding = SHADE_BINDING_INDIRECT) readonly buffer Indirect { vec4 indirect[]; };  // rgb one-bounce light, a occlusion
 layout(push_constant) uniform Push { uint term; };  // hybrid/method.h Term: 0 shadow, 1 ao, 2 indirect
 
 const float kAmbient = 0.12;

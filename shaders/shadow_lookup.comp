@@ -9,13 +9,13 @@
 #include "shared/frame.h"
 #include "shared/raster.h"
 layout(local_size_x = LOOKUP_GROUP_SIZE, local_size_y = LOOKUP_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(binding = 2) uniform sampler2DArray shadowMap;
-layout(std430, binding = 3) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 4) buffer Visibility { float visibility[]; };
-layout(std430, binding = 5) readonly buffer ShadowTexels { float shadowTexels[]; };
-layout(binding = 6, r32ui) uniform readonly uimage2D gFaceNormal;
+layout(binding = LOOKUP_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = LOOKUP_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(binding = LOOKUP_BINDING_SHADOW_MAP) uniform sampler2DArray shadowMap;
+layout(std430, binding = LOOKUP_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = LOOKUP_BINDING_VISIBILITY) buffer Visibility { float visibility[]; };
+layout(std430, binding = LOOKUP_BINDING_SHADOW_TEXELS) readonly buffer ShadowTexels { float shadowTexels[]; };
+layout(binding = LOOKUP_BINDING_FACE_NORMAL, r32ui) uniform readonly uimage2D gFaceNormal;
 #include "light_texels.glsl"
 #include "receiver_plane.glsl"
 // accumulateWeight 0: overwrite visibility; > 0: add accumulateWeight * visibility (msm).

@@ -6,6 +6,24 @@ PN_BEGIN
 
 #define LOOKUP_GROUP_SIZE 8  // shadow_lookup.comp and shade.comp: 8x8 pixels per workgroup
 
+// shadow_lookup.comp's bindings (raster/shadow_lookup_pass.cpp).
+#define LOOKUP_BINDING_POSITION 0       // G-buffer position
+#define LOOKUP_BINDING_NORMAL 1         // G-buffer shading normal
+#define LOOKUP_BINDING_SHADOW_MAP 2     // the light's depth map (sampled)
+#define LOOKUP_BINDING_FRAME 3          // FrameData
+#define LOOKUP_BINDING_VISIBILITY 4     // float per pixel, written
+#define LOOKUP_BINDING_SHADOW_TEXELS 5  // the map's texel copy
+#define LOOKUP_BINDING_FACE_NORMAL 6    // G-buffer face normal (packed)
+
+// shade.comp's bindings (hybrid/shade_pass.cpp).
+#define SHADE_BINDING_POSITION 0
+#define SHADE_BINDING_NORMAL 1
+#define SHADE_BINDING_ALBEDO 2
+#define SHADE_BINDING_FRAME 3
+#define SHADE_BINDING_VISIBILITY 4  // float per pixel
+#define SHADE_BINDING_COLOR 5       // packed RGBA8 per pixel, written
+#define SHADE_BINDING_INDIRECT 6    // vec4 per pixel: rgb one-bounce light, a occlusion
+
 struct GBufferPush {  // 80 bytes
   mat4 viewProj;
   vec4 cameraPosition;  // xyz; the face normal comes from positions relative to it (small numbers, precise derivatives)
