@@ -124,15 +124,15 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--save-view", c.saveView, "Write the resolved camera, light, light size and resolution to this JSON file");
   app.add_option("--res", c.resolution, "Image resolution WxH")->capture_default_str();
   app.option_defaults()->group("Ray tracing");
+  std::string shadowTracers;
+  for (const auto& [name, entry] : registry().tracers()) shadowTracers += name + " (" + entry.help + "), ";
   app.add_option("--tracer", c.tracer,
-                 "Ray tracer of srt and frt: " + [] {
-                   std::string list;
-                   for (const auto& [name, entry] : registry().tracers()) list += name + " (" + entry.help + "), ";
-                   return list;
-                 }() + "or auto (rq on a GPU that has ray queries, else bvh). Methods ao and indirect take a comma-separated list of " + indirectTracerList() +
-                 " (auto = bvh) and render once per tracer: bvh exact, bvh-ls the BVH with candidate line spaces, ntree "
-                 "the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line spaces "
-                 "(--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
+                 "Ray tracer of srt and frt: " + shadowTracers +
+                     "or auto (rq on a GPU that has ray queries, else bvh). Methods ao and indirect take a "
+                     "comma-separated list of " + indirectTracerList() +
+                     " (auto = bvh) and render once per tracer: bvh exact, bvh-ls the BVH with candidate line spaces, "
+                     "ntree the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line "
+                     "spaces (--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
       ->capture_default_str();
   app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
   app.add_flag("--simulate-bandwidth", c.simulateBandwidth,

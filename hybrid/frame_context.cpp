@@ -136,10 +136,6 @@ const NTreeCandidateTracer& FrameContext::ntreeCandidateTracer(FrameStats& stats
 
 const EmbreeTracer& FrameContext::embree(FrameStats& stats) { return static_cast<EmbreeTracer&>(tracer(stats, "embree")); }
 
-std::string FrameContext::resolveTracer(const gpu::Context& context, const std::string& name) {
-  return name == "auto" ? defaultTracer(context) : name;
-}
-
 ShadowTracer& FrameContext::tracer(FrameStats& stats, const std::string& name) {
   const std::string resolvedName = resolveTracer(context_, name.empty() ? settings_.tracer : name);
   const TracerEntry& entry = tracerEntry(resolvedName);  // InputError for unknown names
@@ -384,7 +380,6 @@ void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStat
 }
 
 void FrameContext::shade(Method& method, FrameStats& stats) {
-  gbufferRecorded_ = false;
   if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     method.recordBeforeShade(*this, cmd, stats);

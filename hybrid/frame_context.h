@@ -107,9 +107,6 @@ class FrameContext {
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
   const EmbreeTracer& embree(FrameStats& stats);  // builds on first use, reports the build
-  // The tracer "auto" stands for on this device (defaultTracer: rq on a GPU with ray queries, else
-  // bvh); other names stay.
-  static std::string resolveTracer(const gpu::Context& context, const std::string& name);
   // settings().tracer (or `name` when given), built on first use
   ShadowTracer& tracer(FrameStats& stats, const std::string& name = {});
   // Before the submission: what `tracer` traces for `list` and where results go: the list's points,

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "hybrid/frame_context.h"
+#include "raytrace/acceleration_structures.h"
 
 namespace penumbra {
 
@@ -56,6 +57,10 @@ std::unique_ptr<Method> makeMethod(const std::string& name) {
   std::string known;
   for (const std::string& n : methodNames()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown method '" + name + "'; available methods: " + known);
+}
+
+std::string resolveTracer(const gpu::Context& context, const std::string& name) {
+  return name == "auto" ? defaultTracer(context) : name;
 }
 
 std::vector<std::string> tracerNames() {

@@ -49,7 +49,10 @@ class Registry {
 
 const Registry& registry();  // everything registered, sorted by name
 
-// The shadow tracers, sorted by name ("auto" is not one: FrameContext::resolveTracer maps it).
+// The tracer "auto" stands for on this device (defaultTracer: rq on a GPU with ray queries, else
+// bvh); other names stay.
+std::string resolveTracer(const gpu::Context& context, const std::string& name);
+// The shadow tracers, sorted by name ("auto" is not one: resolveTracer maps it).
 std::vector<std::string> tracerNames();
 // InputError for an unknown name, listing the known ones.
 const TracerEntry& tracerEntry(const std::string& name);

@@ -25,7 +25,7 @@ struct RenderSettings {
   std::uint32_t msmMaps = 4;         // `msm`: shadow maps from this many light samples, averaged
   float rayEpsilon = 1e-4f;          // shadow-ray origin offset, fraction of the scene radius
   // Ray tracer of srt and frt: "bvh" (GPU compute), "rq" (GPU ray queries), "embree" (CPU), "ls"
-  // (line space), or "auto" (resolveTracer).
+  // (line space), or "auto" (resolveTracer, hybrid/registry.h).
   std::string tracer = "auto";
   LineSpaceSettings lineSpace;       // tracer "ls" and method ls: N, depth, memory budget
   raster::PipSettings pip;

@@ -30,11 +30,6 @@ class Renderer {
   std::uint64_t sceneVersion() const { return frameContext_->sceneVersion(); }  // counts sceneMoved() calls
   // What methods work with: the shared passes, buffers and tracers (tests inspect them here).
   FrameContext& frameContext() { return *frameContext_; }
-  // The tracer "auto" stands for on this device (defaultTracer: rq on a GPU with ray queries, else
-  // bvh); other names stay.
-  static std::string resolveTracer(const gpu::Context& context, const std::string& name) {
-    return FrameContext::resolveTracer(context, name);
-  }
 
  private:
   std::unique_ptr<FrameContext> frameContext_;

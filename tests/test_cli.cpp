@@ -15,6 +15,7 @@
 #include "gpu/timer.h"
 #include "hybrid/frame_output.h"
 #include "raster/shadow_map_pass.h"
+#include "hybrid/registry.h"
 #include "render_fixture.h"
 
 namespace fs = std::filesystem;
@@ -267,7 +268,7 @@ TEST_F(Cli, DeviceNamesItsDeviceAndAutoChoices) {
   EXPECT_EQ(device["name"], context.deviceName());
   EXPECT_EQ(device["driver"], context.driverInfo());
   EXPECT_EQ(device["ray_query"], context.rayQuery());
-  EXPECT_EQ(device["auto"]["tracer"], penumbra::Renderer::resolveTracer(context, "auto"));
+  EXPECT_EQ(device["auto"]["tracer"], penumbra::resolveTracer(context, "auto"));
   EXPECT_EQ(device["auto"]["shadow_reads"], penumbra::raster::bufferReads(context, {}) ? "buffer" : "texture");
   EXPECT_EQ(device["auto"]["timer"], penumbra::gpu::toString(penumbra::gpu::defaultTimerMode(context)));
   EXPECT_EQ(device["limits"]["max_storage_buffer_range"], context.storageBufferRange());

@@ -15,6 +15,7 @@
 #include "embree_rays.h"
 #include "raytrace/bvh_tracer.h"
 #include "raytrace/ray_query_tracer.h"
+#include "hybrid/registry.h"
 #include "render_fixture.h"
 
 namespace penumbra {
@@ -178,8 +179,8 @@ TEST(RayQueryTracer, WithoutRayQueriesRqIsRefusedAndAutoIsBvh) {
   gpu::Context context({.validate = true, .printMessages = true});
   ::unsetenv("PENUMBRA_NO_RAY_QUERY");
   EXPECT_FALSE(context.rayQuery());
-  EXPECT_EQ(Renderer::resolveTracer(context, "auto"), "bvh");
-  EXPECT_EQ(Renderer::resolveTracer(context, "ls"), "ls");
+  EXPECT_EQ(resolveTracer(context, "auto"), "bvh");
+  EXPECT_EQ(resolveTracer(context, "ls"), "ls");
   try {
     RayQueryTracer tracer(context, oneTriangle());
     ADD_FAILURE() << "rq was built without ray queries";
@@ -190,7 +191,7 @@ TEST(RayQueryTracer, WithoutRayQueriesRqIsRefusedAndAutoIsBvh) {
   }
   // On lavapipe, where rq has them, "auto" still picks the faster compute BVH (bench/results/tracers.md).
   const bool cpu = validatedContext().physicalDevice().getProperties().deviceType == vk::PhysicalDeviceType::eCpu;
-  EXPECT_EQ(Renderer::resolveTracer(validatedContext(), "auto"), validatedContext().rayQuery() && !cpu ? "rq" : "bvh");
+  EXPECT_EQ(resolveTracer(validatedContext(), "auto"), validatedContext().rayQuery() && !cpu ? "rq" : "bvh");
   EXPECT_TRUE(context.validationMessages().empty());
 }
 
