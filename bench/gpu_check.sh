@@ -109,20 +109,28 @@ step() {
 
 # --- 1. the machine and its Vulkan drivers ---------------------------------------------------
 icd_dirs=(/etc/vulkan/icd.d /usr/share/vulkan/icd.d /usr/local/share/vulkan/icd.d)
-nvidia_manifest=0
-for d in "${icd_dirs[@]}"; do grep -qs nvidia "$d"/*.json && nvidia_manifest=1; done
-# NVIDIA's driver without its ICD manifest (some containers mount the libraries only): point the
-# loader at libGLX_nvidia.so.0, the library the manifest names.
-if [ $nvidia_manifest = 0 ]; then
-  glx=$( (ldconfig -p 2>/dev/null | sed -n 's/.*libGLX_nvidia\.so\.0.*=> //p' | head -n1) || true)
-  for f in /usr/lib/x86_64-linux-gnu/libGLX_nvidia.so.0 /usr/lib64/libGLX_nvidia.so.0; do
-    [ -z "$glx" ] && [ -e "$f" ] && glx=$f
+# NVIDIA's driver with no usable manifest: some containers mount the libraries only, and the
+# manifest's libGLX_nvidia.so.0 creates no instance on a machine without an X server (the loader
+# says "Could not get 'vkCreateInstance' via 'vk_icdGetInstanceProcAddr'"). Then point the loader
+# at libEGL_nvidia.so.0 (the same driver, headless), else libGLX_nvidia.so.0, whichever works.
+nvidia_lib() {  # nvidia_lib NAME: the path of NAME from ldconfig or the usual folders
+  local f path
+  path=$( (ldconfig -p 2>/dev/null | sed -n "s/.*$1.*=> //p" | head -n1) || true)
+  for f in /usr/lib/x86_64-linux-gnu/$1 /usr/lib64/$1; do [ -z "$path" ] && [ -e "$f" ] && path=$f; done
+  echo "$path"
+}
+if [ $cpu = 0 ] && ! prog penumbra device >"$tmp/probe.txt" 2>&1; then
+  for lib in libEGL_nvidia.so.0 libGLX_nvidia.so.0; do
+    path=$(nvidia_lib "$lib")
+    [ -n "$path" ] || continue
+    printf '{"file_format_version": "1.0.0", "ICD": {"library_path": "%s", "api_version": "1.3.0"}}\n' "$path" \
+      >"$tmp/nvidia_icd.json"
+    if VK_DRIVER_FILES=$tmp/nvidia_icd.json prog penumbra device >/dev/null 2>&1; then
+      export VK_DRIVER_FILES=$tmp/nvidia_icd.json
+      log "the machine's Vulkan drivers create no device ($(tail -n1 "$tmp/probe.txt")); using $path"
+      break
+    fi
   done
-  if [ -n "$glx" ]; then
-    printf '{"file_format_version": "1.0.0", "ICD": {"library_path": "%s", "api_version": "1.3.0"}}\n' "$glx" >"$tmp/nvidia_icd.json"
-    export VK_ADD_DRIVER_FILES=$tmp/nvidia_icd.json
-    log "no NVIDIA ICD manifest in ${icd_dirs[*]}; using $glx through $tmp/nvidia_icd.json"
-  fi
 fi
 system_info() {
   echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
@@ -144,7 +152,7 @@ system_info() {
   for d in "${icd_dirs[@]}"; do
     [ -d "$d" ] && for f in "$d"/*.json; do [ -f "$f" ] && echo "$f: $(tr -d '\n' <"$f" | tr -s ' ')"; done
   done
-  [ -n "${VK_ADD_DRIVER_FILES:-}" ] && echo "VK_ADD_DRIVER_FILES=$VK_ADD_DRIVER_FILES: $(cat "$VK_ADD_DRIVER_FILES")"
+  [ -n "${VK_DRIVER_FILES:-}" ] && echo "VK_DRIVER_FILES=$VK_DRIVER_FILES: $(cat "$VK_DRIVER_FILES")"
   (ldconfig -p 2>/dev/null | grep -E 'libGLX_nvidia|libnvidia-glcore|libEGL_nvidia|libcuda\.so' | head -n 8) || true
   echo
   prog vulkaninfo --summary 2>&1 | head -n 60

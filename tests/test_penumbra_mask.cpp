@@ -3,10 +3,12 @@
 // So it must hold every pixel whose samples disagree and every pixel whose centre answer is in
 // doubt, and it should hold little else: each of its pixels costs spp rays. frt, with the same
 // per-pixel samples, is the reference here.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -190,6 +192,7 @@ TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
     const std::vector<float> texels = shadowMap.texels().download<float>(std::size_t(faces) * res * res);
     const std::vector<float> tiles = pyramid.tiles().download<float>(pyramid.tiles().size() / sizeof(float));
     std::size_t checked = 0, violations = 0, flat = 0, levelTwo = 0;
+    std::vector<double> belows, slopes;  // of the covered level-2 tiles
     double worst = -1.0;
     for (std::uint32_t k = 2; k <= levels; ++k) {
       const std::uint32_t dim = shared::pyramidDim(res, k), size = 1u << k;
@@ -213,7 +216,12 @@ TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
             }
             if (k == 2 && flatTile) {  // every texel covered
               ++levelTwo;
-              flat += below < 1e-6;
+              // Tight: within a sixteenth of a texel's depth step (a rasterizer may snap vertices to
+              // 1/16 texel, Vulkan's least sub-pixel precision; on an H200 only 2 of 513 courtyard
+              // tiles fitted within 1e-6) plus a few float steps; a loose fit is off by tile sizes.
+              flat += below < 1e-6 + (std::abs(gx) + std::abs(gy)) / 16.0;
+              belows.push_back(below);
+              slopes.push_back(std::abs(gx) + std::abs(gy));
             }
           }
         }
@@ -221,10 +229,17 @@ TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
     }
     std::cout << spec << ": " << faces << " face(s), " << checked << " texel checks, " << violations
               << " below their tile's bound (worst by " << worst << "), " << flat << " of " << levelTwo
-              << " covered level-2 tiles fit within 1e-6\n";
+              << " covered level-2 tiles fit tightly";
+    const auto quantile = [](std::vector<double> v, double q) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(q * double(v.size() - 1)), v.end());
+      return v[std::size_t(q * double(v.size() - 1))];
+    };
+    std::cout << "; their fit's below: median " << quantile(belows, 0.5) << ", 90% " << quantile(belows, 0.9)
+              << "; depth slope per texel: median " << quantile(slopes, 0.5) << "\n";
     EXPECT_EQ(violations, 0u) << spec;
-    // Planes are affine in raw depth: the courtyard's and the room's flat faces fit within a few
-    // float steps (measured: 74% and 97% of their tiles; the rest hold edges). The knot is curved.
+    // Planes are affine in raw depth: the courtyard's and the room's flat faces fit tightly (measured
+    // on lavapipe: 74% and 97% of their tiles within 1e-6; the rest hold edges). The knot is curved.
     if (std::string(spec) != "builtin:knot") EXPECT_GT(flat, levelTwo / 2) << spec << ": the fits should be tight where the map is flat";
   }
   expectValidationSilent();
