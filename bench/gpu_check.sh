@@ -256,6 +256,10 @@ for ((i = ${#scenes[@]} - 1; i > 0; i--)); do
   scene=${scenes[i]}
   step "bench-${sizes[0]}-$scene" 120 bench "$scene, ${sizes[0]}: hard and 16 spp" --scenes "$scene" --res "${sizes[0]}" "${hard_soft[@]}"
 done
+# srt's own path, classification and all: where tracing everything is cheaper, srt's auto choice
+# (above) shows only frt's time.
+step "bench-${sizes[0]}-paper-path" 60 bench "${scenes[1]}, ${sizes[0]}: srt's paper path (--srt-choice off)" \
+  --scenes "${scenes[1]}" --res "${sizes[0]}" "${hard_soft[@]}" --srt-choice off
 step "bench-${sizes[0]}-bitmask" 60 bench "${scenes[0]}, ${sizes[0]}: bitmask, 16 spp" \
   --scenes "${scenes[0]}" --res "${sizes[0]}" --methods bitmask --light-sizes 0.1 --spp 16
 step "bench-${sizes[0]}-temporal" 60 bench "${scenes[0]}, ${sizes[0]}: 1 spp with the temporal denoiser (against 256 spp)" \
