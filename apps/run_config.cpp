@@ -112,7 +112,7 @@ void requireFits(const MemoryEstimate& need, const RenderSettings& s, std::uint6
 void addRunOptions(CLI::App& app, RunConfig& c) {
   // --help lists them by topic, each group declared before its options.
   app.option_defaults()->group("Scene, camera and light");
-  app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, room, foliage, level, knot), a .gltf/.glb or .obj file")
+  app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, checker, room, foliage, level, knot), a .gltf/.glb or .obj file")
       ->capture_default_str();
   app.add_option("--camera", c.camera, "Camera 'ex,ey,ez:tx,ty,tz[:fovy]' (default: the scene's, else a three-quarter view)");
   app.add_option("--light", c.light, "Light 'dir:dx,dy,dz' | 'point:x,y,z' | 'spot:x,y,z:tx,ty,tz[:angle]' | 'rect:x,y,z:tx,ty,tz' | 'disk:...'");

@@ -185,6 +185,26 @@ Scene square() {
   return scene;
 }
 
+// The square with its occluder cut out by an 8 x 8 checker of alpha 1 and 0 (builtin_scenes.h).
+Scene checker() {
+  Scene scene = square();
+  scene.name = "builtin:checker";
+  Mesh& occluder = scene.meshes[1];
+  occluder.name = "checker";
+  for (const glm::vec3& p : occluder.positions) occluder.uvs.push_back({(p.x + 1.0f) / 2.0f, (p.z + 1.0f) / 2.0f});
+  occluder.cutout = Cutout{.texture = 0, .factor = 1.0f, .cutoff = 0.5f};
+  Texture& texture = scene.textures.emplace_back();
+  texture.name = "checker";
+  texture.width = texture.height = kCheckerCells;
+  for (std::uint32_t y = 0; y < kCheckerCells; ++y) {
+    for (std::uint32_t x = 0; x < kCheckerCells; ++x) {
+      const std::uint8_t solid = (x + y) % 2 == 0 ? 255 : 0;
+      texture.rgba.insert(texture.rgba.end(), {200, 200, 200, solid});
+    }
+  }
+  return scene;
+}
+
 Scene room() {
   Scene scene;
   scene.name = "builtin:room";
@@ -223,7 +243,7 @@ std::string usage() {
 }  // namespace
 
 std::vector<std::string> builtinSceneNames() {
-  return {"courtyard", "courtyard-moving", "wires", "square", "room", "foliage", "level", "knot"};
+  return {"courtyard", "courtyard-moving", "wires", "square", "checker", "room", "foliage", "level", "knot"};
 }
 
 namespace {
@@ -267,6 +287,7 @@ Scene makeBuiltinScene(const std::string& nameAndLevel) {
   const bool hasLevel = colon != std::string::npos;
   Scene (*make)() = name == "wires"     ? wires
                     : name == "square"  ? square
+                    : name == "checker" ? checker
                     : name == "room"    ? room
                     : name == "foliage" ? foliageScene
                     : name == "level"   ? levelScene

@@ -39,6 +39,10 @@ namespace penumbra {
 //            d = normalize(0.3, -1, 0.2). A ground point p is shadowed iff p - t*d (t > 0) meets
 //            the occluder, i.e. the shadow is [-0.7, 1.3] x [-0.8, 1.2] at y = 0.
 //            Camera: eye (0, 9, 9), target (0.3, 0, 0.2), fovy 45.
+// checker:   the square with its occluder cut out (Cutout, alpha-tested): texture coordinates
+//            u = (x + 1) / 2, v = (z + 1) / 2 over a kCheckerCells^2 (8^2) texture whose texel (i, j) has
+//            alpha 1 where i + j is even, else 0, cutoff 0.5. A ground point is shadowed iff its
+//            occluder point q = p - t*d lies in a solid cell: floor(u * 8) + floor(v * 8) even.
 // room:      closed room x, z in [-5, 5], y in [0, 4] (walls, floor, ceiling facing inward), a
 //            crate, a floor-to-ceiling pillar and a ball hanging on a cord above the light.
 //            Light: Point at (1.2, 2, -1); shadows land on the floor, ceiling and walls.
@@ -46,6 +50,7 @@ namespace penumbra {
 // foliage, level, knot: stress scenes (a tree of small leaves, a brush-built level with sub-texel
 //            cracks, a self-shadowing knot), documented in core/stress_scenes.h.
 Scene makeBuiltinScene(const std::string& nameAndLevel);
+inline constexpr std::uint32_t kCheckerCells = 8;  // builtin:checker's texels a side
 // The triangles makeBuiltinScene would build for a courtyard spec, counted without building it
 // (its levels reach tens of millions); nullopt for the other scenes, which are small.
 std::optional<std::uint64_t> builtinTriangleCount(const std::string& nameAndLevel);

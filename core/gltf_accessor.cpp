@@ -119,10 +119,11 @@ void visit(const tinygltf::Model& model, int index, const std::string& what, con
   const bool indices = kind == Kind::Indices;
   const int type = kind == Kind::Vec3   ? TINYGLTF_TYPE_VEC3
                    : kind == Kind::Vec4 ? TINYGLTF_TYPE_VEC4
+                   : kind == Kind::Vec2 ? TINYGLTF_TYPE_VEC2
                                         : TINYGLTF_TYPE_SCALAR;
   if (acc.type != type ||
       !(indices ? isIndexType(acc.componentType) && !acc.normalized : isAttributeType(acc.componentType))) {
-    static const char* const expected[] = {"a VEC3", "a VEC4", "a SCALAR", "an unsigned integer SCALAR"};
+    static const char* const expected[] = {"a VEC3", "a VEC4", "a SCALAR", "an unsigned integer SCALAR", "a VEC2"};
     fail(path,
          name + " has type " + std::to_string(acc.type) + " / componentType " + std::to_string(acc.componentType) +
              (acc.normalized ? " (normalized)" : "") + ", expected " + expected[int(kind)] +
@@ -193,6 +194,14 @@ std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const s
   const std::vector<float> f = readFloats(model, index, what, path, Kind::Vec3);
   std::vector<glm::vec3> out(f.size() / 3);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = {f[3 * i], f[3 * i + 1], f[3 * i + 2]};
+  return out;
+}
+
+std::vector<glm::vec2> readVec2(const tinygltf::Model& model, int index, const std::string& what,
+                                const std::string& path) {
+  const std::vector<float> f = readFloats(model, index, what, path, Kind::Vec2);
+  std::vector<glm::vec2> out(f.size() / 2);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {f[2 * i], f[2 * i + 1]};
   return out;
 }
 

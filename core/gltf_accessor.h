@@ -17,13 +17,15 @@ namespace penumbra::gltf {
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem, const std::string& fix);
 
-// What a caller reads: VEC3, VEC4 or SCALAR of float or (normalized) 8/16-bit integer components,
+// What a caller reads: VEC2, VEC3, VEC4 or SCALAR of float or (normalized) 8/16-bit integer components,
 // or unsigned integer SCALAR indices.
-enum class Kind { Vec3, Vec4, Scalar, Indices };
+enum class Kind { Vec3, Vec4, Scalar, Indices, Vec2 };
 
 std::vector<float> readFloats(const tinygltf::Model& model, int index, const std::string& what, const std::string& path,
                               Kind kind);
 std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const std::string& what,
+                                const std::string& path);
+std::vector<glm::vec2> readVec2(const tinygltf::Model& model, int index, const std::string& what,
                                 const std::string& path);
 std::vector<std::uint32_t> readIndices(const tinygltf::Model& model, int index, const std::string& what,
                                        const std::string& path);

@@ -11,6 +11,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -27,6 +28,7 @@
 #include "core/gltf_meshopt.h"
 #include "core/gltf_rewrite.h"
 #include "core/scene_loader.h"
+#include "core/texture.h"
 
 namespace penumbra {
 
@@ -95,9 +97,37 @@ bool fsWriteWholeFile(std::string* err, const std::string&, const std::vector<un
   return false;
 }
 
-// Textures are not used: keep image bytes undecoded so image-heavy files load fast.
-bool skipImageDecode(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// Images stay encoded as tinygltf reads them: only those a cut-out needs are decoded (Converter::texture),
+// so image-heavy files load fast.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+                      int size, void*) {
+  image->image.assign(bytes, bytes + std::max(size, 0));
+  image->as_is = true;
   return true;
+}
+
+// KHR_texture_transform of a texture reference, baked into texture coordinates: offset, rotation
+// and scale as the extension composes them (T * R * S). Returns the texCoord set it selects.
+int applyTextureTransform(const tinygltf::TextureInfo& info, std::vector<glm::vec2>* uvs) {
+  const auto ext = info.extensions.find("KHR_texture_transform");
+  if (ext == info.extensions.end() || !ext->second.IsObject()) return info.texCoord;
+  const tinygltf::Value& t = ext->second;
+  const auto number = [](const tinygltf::Value& v, double fallback) { return v.IsNumber() ? v.GetNumberAsDouble() : fallback; };
+  const auto pair = [&](const char* key, glm::dvec2 fallback) {
+    const tinygltf::Value& v = t.Get(key);
+    return v.IsArray() && v.ArrayLen() == 2 ? glm::dvec2(number(v.Get(0), fallback.x), number(v.Get(1), fallback.y))
+                                            : fallback;
+  };
+  const glm::dvec2 offset = pair("offset", glm::dvec2(0.0)), scale = pair("scale", glm::dvec2(1.0));
+  const double rotation = number(t.Get("rotation"), 0.0), c = std::cos(rotation), s = std::sin(rotation);
+  if (uvs != nullptr) {
+    for (glm::vec2& uv : *uvs) {
+      const glm::dvec2 scaled = glm::dvec2(uv) * scale;
+      uv = glm::vec2(offset.x + c * scaled.x + s * scaled.y, offset.y - s * scaled.x + c * scaled.y);
+    }
+  }
+  const tinygltf::Value& set = t.Get("texCoord");
+  return set.IsNumber() ? set.GetNumberAsInt() : info.texCoord;
 }
 
 // A unit direction under a transform's linear part (`local` itself if it collapses or overflows).
@@ -134,6 +164,8 @@ struct Converter {
   };
   std::vector<LightNode> lightNodes;
   std::optional<glm::dmat4> cameraWorld;
+  std::map<int, std::int32_t> imageTexture;  // glTF image -> Scene::textures index, once decoded
+  std::uint64_t textureBytes = 0;
   float yfov = 0.0f;
   bool warnedOrtho = false;
 
@@ -176,11 +208,77 @@ struct Converter {
       }
     }
     if (prim.material >= 0 && std::size_t(prim.material) < model.materials.size()) {
-      out.baseColor = rgb(model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
+      const tinygltf::Material& material = model.materials[std::size_t(prim.material)];
+      out.baseColor = rgb(material.pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
+      if (material.alphaMode == "MASK" || material.alphaMode == "BLEND") addCutout(prim, material, out);
     }
     scene.meshes.push_back(std::move(out));
     meshWorld.push_back(world);
     if (animatedOnChain > 0) animated.push_back({scene.meshes.size() - 1, chain});
+  }
+
+  // alphaMode MASK cuts at alphaCutoff, BLEND by the same rule at 0.5 (docs/methods.md); the alpha
+  // is baseColorFactor's times the base colour texture's.
+  void addCutout(const tinygltf::Primitive& prim, const tinygltf::Material& material, Mesh& out) {
+    Cutout cutout;
+    const std::vector<double>& factor = material.pbrMetallicRoughness.baseColorFactor;
+    cutout.factor = factor.size() >= 4 ? float(factor[3]) : 1.0f;
+    cutout.cutoff = material.alphaMode == "MASK" ? float(material.alphaCutoff) : 0.5f;
+    if (!std::isfinite(cutout.factor) || !std::isfinite(cutout.cutoff)) {
+      fail(path, "material '" + material.name + "' has a non-finite alpha factor or cutoff", "re-export it");
+    }
+    const tinygltf::TextureInfo& info = material.pbrMetallicRoughness.baseColorTexture;
+    if (info.index >= 0) {
+      const int set = applyTextureTransform(info, nullptr);
+      const auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(set));
+      if (uv != prim.attributes.end()) {
+        out.uvs = gltf::readVec2(model, uv->second, "TEXCOORD_" + std::to_string(set), path);
+        applyTextureTransform(info, &out.uvs);
+        cutout.texture = texture(info.index);
+      } else {
+        scene.warnings.push_back("glTF primitive '" + out.name + "' has no TEXCOORD_" + std::to_string(set) +
+                                 " for its alpha texture; its alpha factor alone cuts it out");
+      }
+    }
+    out.cutout = cutout;
+  }
+
+  // The scene texture of glTF texture `index`, its image decoded once however many materials use it.
+  std::int32_t texture(int index) {
+    if (std::size_t(index) >= model.textures.size()) {
+      fail(path, "texture " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
+    }
+    const tinygltf::Texture& texture = model.textures[std::size_t(index)];
+    const int source = texture.source;
+    if (source < 0 || std::size_t(source) >= model.images.size()) {
+      fail(path, "texture " + std::to_string(index) + " has no image (or a KHR/EXT image format this loader lacks)",
+           "re-export it with PNG or JPEG images");
+    }
+    if (const auto known = imageTexture.find(source); known != imageTexture.end()) return known->second;
+    if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size()) {
+      const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
+      if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT) {
+        scene.warnings.push_back("glTF texture " + std::to_string(index) +
+                                 " clamps or mirrors; cut-outs repeat it (docs/methods.md)");
+      }
+    }
+    const tinygltf::Image& image = model.images[std::size_t(source)];
+    const std::string name = !image.uri.empty() ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source)
+                                                                                     : image.uri)
+                             : !image.name.empty() ? image.name
+                                                   : "image " + std::to_string(source);
+    if (image.image.empty()) {
+      fail(path, "image '" + name + "', which a cut-out material needs, could not be read",
+           "put it in the model's folder or embed it");
+    }
+    Texture decoded = decodeTexture(image.image, path + ": " + name);
+    textureBytes += decoded.rgba.size();
+    if (textureBytes > kMaxTextureBytes) {
+      fail(path, "its cut-out textures decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB",
+           "downscale the textures");
+    }
+    scene.textures.push_back(std::move(decoded));
+    return imageTexture[source] = std::int32_t(scene.textures.size() - 1);
   }
 
   void addLight(const tinygltf::Node& node, const glm::dmat4& world) {
@@ -372,7 +470,7 @@ Scene loadGltf(const std::string& path) {
 
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &ctx});
-  loader.SetImageLoader(&skipImageDecode, nullptr);
+  loader.SetImageLoader(&keepEncodedImage, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool ok = binary || !compression.empty()

@@ -90,6 +90,30 @@ struct Dropped {
   std::size_t nonFinite = 0, badIndex = 0, degenerate = 0;
 };
 
+// A cut-out needs its texture and a texture coordinate per vertex; without them, or without a
+// texture, the factor decides for the whole mesh: solid (an opaque mesh) or cut away (no triangles).
+void cleanCutout(Mesh& mesh, std::size_t textures, std::vector<std::string>& warnings) {
+  if (mesh.uvs.size() != mesh.positions.size()) mesh.uvs.clear();
+  for (glm::vec2& uv : mesh.uvs) {
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+  }
+  if (!mesh.cutout) return;
+  Cutout& c = *mesh.cutout;
+  if (c.texture >= 0 && (std::size_t(c.texture) >= textures || mesh.uvs.empty())) {
+    warnings.push_back("mesh '" + mesh.name + "': its alpha texture " +
+                       (mesh.uvs.empty() ? "has no texture coordinates" : "is missing") +
+                       "; the material's alpha factor alone cuts it out");
+    c.texture = -1;
+  }
+  if (c.texture >= 0) return;
+  if (!(c.factor >= c.cutoff)) {
+    warnings.push_back("mesh '" + mesh.name + "': alpha " + std::to_string(c.factor) + " is under its cutoff " +
+                       std::to_string(c.cutoff) + " everywhere; it is cut away");
+    mesh.indices.clear();
+  }
+  mesh.cutout.reset();
+}
+
 void cleanMesh(Mesh& mesh, float areaEpsilon, Dropped& dropped) {
   const std::size_t vertexCount = mesh.positions.size();
   std::vector<std::uint32_t> kept;
@@ -155,7 +179,10 @@ void cleanScene(Scene& scene, const std::string& source) {
   const float areaEpsilon = 1e-12f * extent * extent;
 
   Dropped dropped;
-  for (Mesh& mesh : scene.meshes) cleanMesh(mesh, areaEpsilon, dropped);
+  for (Mesh& mesh : scene.meshes) {
+    cleanMesh(mesh, areaEpsilon, dropped);
+    cleanCutout(mesh, scene.textures.size(), scene.warnings);
+  }
   // Meshes left without triangles go; animations follow their meshes' new indices.
   std::vector<std::size_t> newIndex(scene.meshes.size());
   std::size_t kept = 0;

@@ -20,11 +20,31 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An image of a model, decoded to 8-bit RGBA; row 0 is the top, where texture coordinate v = 0 is
+// (glTF's and OBJ's convention once the OBJ loader flips v).
+struct Texture {
+  std::string name;  // the file or the image's name in the model, for messages
+  std::uint32_t width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;  // width * height * 4
+};
+
+// A mesh whose texture cuts it out (glTF alphaMode MASK, and BLEND by the same rule with cutoff 0.5;
+// OBJ map_d): a point of a triangle is solid where `factor` times the alpha of the texture's nearest
+// texel at the point's texture coordinate is >= `cutoff` (shared/alpha.h, one rule for every method
+// and the reference). Without a texture, factor alone decides for the whole mesh.
+struct Cutout {
+  std::int32_t texture = -1;  // index into Scene::textures; -1: none
+  float factor = 1.0f;        // baseColorFactor's alpha
+  float cutoff = 0.5f;
+};
+
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;  // world space
   std::vector<glm::vec3> normals;    // world space, unit, one per position
   std::vector<std::uint32_t> indices;  // three per triangle
+  std::vector<glm::vec2> uvs;        // texture coordinates, one per position (or none)
+  std::optional<Cutout> cutout;      // alpha-tested; a cut-out with a texture has uvs
   glm::vec3 baseColor{0.8f};
   bool dynamic = false;  // moves during the run (posed by an animation, core/animation.h); static otherwise
   std::size_t triangleCount() const { return indices.size() / 3; }
@@ -95,6 +115,7 @@ struct Scene {
   // lights in world coordinates; core/view.h converts them with this origin.
   glm::dvec3 origin{0.0};
   std::vector<Mesh> meshes;
+  std::vector<Texture> textures;  // those the meshes use (Cutout::texture)
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
   std::vector<Light> lights;     // the first one is used
   std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats

@@ -13,6 +13,7 @@
 #include <embree3/rtcore.h>
 
 #include "raytrace/embree_handles.h"
+#include "shared/alpha.h"
 #include "shared/frame.h"
 #include "shared/indirect.h"
 #include "shared/trace.h"
@@ -72,6 +73,30 @@ bool occluded(RTCScene scene, RTCIntersectContext& context, const glm::vec3& ori
 }
 
 
+// A cut-out mesh's data for its filter (a copy: the tracer outlives the Scene).
+struct CutoutGeometry {
+  std::vector<std::uint32_t> indices;
+  std::vector<glm::vec2> uvs;
+  std::vector<std::uint8_t> alpha;  // the texture's alpha channel, width * height
+  std::uint32_t width = 0, height = 0;
+  float factor = 1.0f, cutoff = 0.5f;
+};
+
+// Intersection and occlusion filter of a cut-out mesh: a candidate hit where the texture is cut
+// away is rejected, and the ray goes on (shared/alpha.h's rule, as every GPU tracer applies it).
+void cutoutFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* g = static_cast<const CutoutGeometry*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const std::uint32_t t = RTCHitN_primID(args->hit, args->N, i);
+    const glm::vec2 uv = shared::cutoutUv(g->uvs[g->indices[3 * t]], g->uvs[g->indices[3 * t + 1]],
+                                          g->uvs[g->indices[3 * t + 2]], RTCHitN_u(args->hit, args->N, i),
+                                          RTCHitN_v(args->hit, args->N, i));
+    const std::uint8_t alpha = g->alpha[shared::cutoutTexel(uv, g->width, g->height)];
+    if (!shared::cutoutSolid(alpha, g->factor, g->cutoff)) args->valid[i] = 0;
+  }
+}
+
 }  // namespace
 
 struct EmbreeTracer::Impl {
@@ -83,6 +108,25 @@ struct EmbreeTracer::Impl {
   ScenePtr scene;
   std::vector<std::uint32_t> geomToMesh;  // Embree geomID -> Scene mesh index (empty meshes skipped)
   std::vector<std::uint32_t> geomFirstTriangle;  // Embree geomID -> scene-order index of its first triangle
+  std::vector<std::unique_ptr<CutoutGeometry>> cutouts;  // their filters' data
+
+  void addCutout(RTCGeometry geom, const Scene& scene, const Mesh& mesh) {
+    const Cutout& c = *mesh.cutout;
+    const Texture& texture = scene.textures.at(std::size_t(c.texture));
+    auto g = std::make_unique<CutoutGeometry>();
+    g->indices = mesh.indices;
+    g->uvs = mesh.uvs;
+    g->width = texture.width;
+    g->height = texture.height;
+    g->alpha.resize(std::size_t(texture.width) * texture.height);
+    for (std::size_t i = 0; i < g->alpha.size(); ++i) g->alpha[i] = texture.rgba[4 * i + 3];
+    g->factor = c.factor;
+    g->cutoff = c.cutoff;
+    rtcSetGeometryUserData(geom, g.get());
+    rtcSetGeometryIntersectFilterFunction(geom, &cutoutFilter);
+    rtcSetGeometryOccludedFilterFunction(geom, &cutoutFilter);
+    cutouts.push_back(std::move(g));
+  }
   double buildMs = 0.0;
 
   static void onError(void* user, RTCError code, const char* message) {
@@ -151,6 +195,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
       vertices[3 * v + 2] = mesh.positions[v].z;
     }
     std::copy_n(mesh.indices.begin(), triangles * 3, indices);
+    if (mesh.cutout) m.addCutout(geom.get(), scene, mesh);
     rtcCommitGeometry(geom.get());
     const unsigned id = rtcAttachGeometry(m.scene.get(), geom.get());
     m.check("geometry commit");

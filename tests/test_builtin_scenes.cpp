@@ -100,9 +100,9 @@ void expectWellFormed(const Scene& scene) {
 
 }  // namespace
 
-TEST(BuiltinScenes, ListsTheEightScenes) {
-  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "room",
-                                                           "foliage", "level", "knot"}));
+TEST(BuiltinScenes, ListsTheNineScenes) {
+  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "checker",
+                                                           "room", "foliage", "level", "knot"}));
 }
 
 TEST(BuiltinScenes, EachIsWellFormedAndSurvivesCleaning) {

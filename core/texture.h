@@ -1,0 +1,19 @@
+// Decoding a model's images (PNG, JPEG) into Scene textures, with the checks an untrusted file needs.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "core/scene.h"
+
+namespace penumbra {
+
+// The largest image side accepted, and the most bytes all decoded textures of a scene may take.
+inline constexpr std::uint32_t kMaxTextureSide = 16384;
+inline constexpr std::uint64_t kMaxTextureBytes = std::uint64_t(2) << 30;
+
+// Decodes PNG or JPEG bytes to RGBA8. InputError naming `name` for an empty, corrupt or unsupported
+// image or one with a side over kMaxTextureSide (checked from the header, before decoding).
+Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& name);
+
+}  // namespace penumbra

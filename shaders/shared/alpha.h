@@ -1,0 +1,31 @@
+// Alpha-tested cut-outs (Scene's Cutout): the one rule by which every method and the reference
+// decide whether a point of a cut-out triangle is solid. The texture coordinate is interpolated with
+// the hit's barycentrics, wrapped (glTF's default REPEAT) and looked up at the nearest texel of the
+// full-resolution image; solid where factor * alpha >= cutoff (alpha in [0, 1] from 8 bits).
+#ifndef PENUMBRA_SHARED_ALPHA_H
+#define PENUMBRA_SHARED_ALPHA_H
+#include "shared/glsl_cpp.h"
+PN_BEGIN
+
+// The texture coordinate at barycentrics (u, v) of a triangle with vertex coordinates t0, t1, t2
+// (point = (1 - u - v) v0 + u v1 + v v2, Embree's and the BVH's convention).
+PN_FN vec2 cutoutUv(vec2 t0, vec2 t1, vec2 t2, float u, float v) {
+  return t0 * (1.0f - u - v) + t1 * u + t2 * v;
+}
+
+// The index (row-major, row 0 at v = 0) of the texel nearest to uv in a width x height image.
+PN_FN uint cutoutTexel(vec2 uv, uint width, uint height) {
+  float fx = uv.x - floor(uv.x);
+  float fy = uv.y - floor(uv.y);
+  uint x = min(uint(fx * float(width)), width - 1u);
+  uint y = min(uint(fy * float(height)), height - 1u);
+  return y * width + x;
+}
+
+// Whether a texel of 8-bit alpha `alpha8` is solid under the material's factor and cutoff.
+PN_FN bool cutoutSolid(uint alpha8, float factor, float cutoff) {
+  return factor * (float(alpha8) / 255.0f) >= cutoff;
+}
+
+PN_END
+#endif

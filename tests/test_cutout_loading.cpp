@@ -1,0 +1,98 @@
+// Alpha-tested materials from glTF: the cut-out, its texture (embedded or beside the model) and
+// texture coordinates are loaded; images that cannot be read are a clear error, never a silent
+// solid mesh.
+#include <gtest/gtest.h>
+
+#include "core/image_io.h"
+#include "core/texture.h"
+#include "gltf_writer.h"
+
+namespace {
+
+using namespace loader_test;
+
+// A 2 x 2 PNG: alpha 255 on the diagonal, 0 off it.
+Bytes checkerPng(const TempDir& dir, int width = 2, int height = 2) {
+  std::vector<std::uint8_t> rgba(std::size_t(width) * height * 4, 128);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) rgba[(std::size_t(y) * width + x) * 4 + 3] = (x + y) % 2 == 0 ? 255 : 0;
+  }
+  penumbra::writePngRgba8(dir.file("made.png"), width, height, rgba);
+  std::ifstream in(dir.file("made.png"), std::ios::binary);
+  return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The triangle with texture coordinates and an alpha-tested material on image 0 at `imageUri`.
+json cutoutDoc(Bytes& bin, const std::string& imageUri, const std::string& alphaMode = "MASK") {
+  json doc = meshDoc(kTriangle, {}, bin);
+  const int uv = addFloats(doc, bin, {0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f}, "VEC2", 3);
+  doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+  doc["materials"][0]["alphaMode"] = alphaMode;
+  doc["materials"][0]["alphaCutoff"] = 0.3;
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  doc["textures"] = {{{"source", 0}}};
+  doc["images"] = {{{"uri", imageUri}}};
+  return doc;
+}
+
+TEST(CutoutLoading, MaskMaterialWithAnEmbeddedImage) {
+  TempDir dir;
+  Bytes bin;
+  const json doc = cutoutDoc(bin, "data:image/png;base64," + base64(checkerPng(dir)));
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const penumbra::Mesh& m = s.meshes[0];
+  ASSERT_TRUE(m.cutout.has_value());
+  EXPECT_FLOAT_EQ(m.cutout->cutoff, 0.3f);
+  EXPECT_FLOAT_EQ(m.cutout->factor, 1.0f);
+  ASSERT_EQ(m.cutout->texture, 0);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].width, 2u);
+  EXPECT_EQ(s.textures[0].rgba[3], 255);   // texel (0, 0)
+  EXPECT_EQ(s.textures[0].rgba[7], 0);     // texel (1, 0)
+  EXPECT_EQ(m.uvs, (std::vector<glm::vec2>{{0, 0}, {1, 0}, {0, 1}}));
+}
+
+TEST(CutoutLoading, BlendIsCutAtOneHalfAndTextureTransformIsBaked) {
+  TempDir dir;
+  writeFile(dir.file("leaf.png"), checkerPng(dir));
+  Bytes bin;
+  json doc = cutoutDoc(bin, "leaf.png", "BLEND");
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+      {"KHR_texture_transform", {{"offset", {0.5, 0.25}}, {"scale", {2.0, 4.0}}}}};
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin));
+  const penumbra::Mesh& m = s.meshes[0];
+  ASSERT_TRUE(m.cutout.has_value());
+  EXPECT_FLOAT_EQ(m.cutout->cutoff, 0.5f);
+  EXPECT_EQ(m.uvs, (std::vector<glm::vec2>{{0.5f, 0.25f}, {2.5f, 0.25f}, {0.5f, 4.25f}}));
+}
+
+TEST(CutoutLoading, OpaqueWhereTheFactorAloneIsOverTheCutoff) {
+  TempDir dir;
+  Bytes bin;
+  json doc = cutoutDoc(bin, "unused.png");
+  doc["materials"][0]["pbrMetallicRoughness"].erase("baseColorTexture");
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin));
+  EXPECT_FALSE(s.meshes[0].cutout.has_value()) << "alpha 1 over a cutoff of 0.3 everywhere: an opaque mesh";
+  EXPECT_TRUE(s.textures.empty()) << "no image decoded that no cut-out needs";
+}
+
+TEST(CutoutLoading, ImagesThatCannotBeReadAreErrors) {
+  TempDir dir;
+  Bytes bin;
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "missing.png"), bin, "a")); },
+                   {"missing.png", "could not be read"});
+  bin.clear();
+  writeFile(dir.file("broken.png"), std::string("not a png at all"));
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "broken.png"), bin, "b")); },
+                   {"broken.png", "cannot be decoded"});
+  bin.clear();
+  writeFile(dir.file("wide.png"), checkerPng(dir, int(penumbra::kMaxTextureSide) + 1, 1));
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "wide.png"), bin, "c")); },
+                   {"wide.png", "16385x1"});
+  bin.clear();
+  expectInputError([&] { penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "../outside.png"), bin, "d")); },
+                   {"outside.png", "outside the model's folder"});
+}
+
+}  // namespace
