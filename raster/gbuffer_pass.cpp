@@ -1,5 +1,7 @@
 #include "raster/gbuffer_pass.h"
 
+#include "gbuffer_cutout_frag.h"
+#include "gbuffer_cutout_vert.h"
 #include "gbuffer_frag.h"
 #include "gbuffer_vert.h"
 #include "shared/gbuffer.h"
@@ -14,18 +16,20 @@ constexpr vk::Format kNormalFormat = vk::Format::eR32G32B32A32Sfloat;
 constexpr vk::Format kAlbedoFormat = vk::Format::eR8G8B8A8Unorm;
 constexpr vk::Format kFaceNormalFormat = vk::Format::eR32Uint;
 
-gpu::GraphicsPipelineDesc pipelineDesc() {
+// The camera pass's pipeline; `cutout`: for cut-out meshes, with texture coordinates and the alpha test.
+gpu::GraphicsPipelineDesc pipelineDesc(bool cutout) {
   gpu::GraphicsPipelineDesc d;
-  d.vertexSpirv = gbuffer_vert;
-  d.fragmentSpirv = gbuffer_frag;
+  d.vertexSpirv = cutout ? std::span<const std::uint32_t>(gbuffer_cutout_vert) : std::span<const std::uint32_t>(gbuffer_vert);
+  d.fragmentSpirv = cutout ? std::span<const std::uint32_t>(gbuffer_cutout_frag) : std::span<const std::uint32_t>(gbuffer_frag);
   d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
   d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)},
                         {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
                         {2, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, color)}};
   d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat, kFaceNormalFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO, _FACE_NORMAL
   d.depthCompare = vk::CompareOp::eGreater;  // reversed depth (ViewMatrices::reversedDepthViewProj)
-  d.pushConstantBytes = sizeof(shared::GBufferPush);
-  d.name = "gbuffer pipeline";
+  d.pushConstantBytes = cutout ? sizeof(shared::CutoutDrawPush) : sizeof(shared::GBufferPush);
+  d.name = cutout ? "gbuffer cutout pipeline" : "gbuffer pipeline";
+  if (cutout) readTextureCoordinates(d);
   return d;
 }
 
@@ -41,7 +45,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, std::uint32_t width, std::
       depth_(context, {vk::Format::eD32Sfloat, width, height, 1, Usage::eDepthStencilAttachment, "gbuffer depth"}),
       positionReadback_(context, position_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer position readback"),
       normalReadback_(context, normal_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer normal readback"),
-      pipeline_(context, pipelineDesc()) {}
+      pipeline_(context, pipelineDesc(false)),
+      cutoutPipeline_(context, pipelineDesc(true)) {}
 
 void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const ViewMatrices& view,
                          const glm::vec3& cameraPosition) const {
@@ -78,7 +83,14 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   pipeline_.bind(cmd, gpu::Descriptors{});
   pipeline_.pushConstants(cmd, shared::GBufferPush{view.reversedDepthViewProj, glm::vec4(cameraPosition, 1.0f)});
   geometry.bind(cmd);
-  geometry.draw(cmd);
+  geometry.drawOpaque(cmd);
+  if (geometry.hasCutouts()) {
+    cutoutPipeline_.bind(cmd, gpu::Descriptors{});
+    geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
+      cutoutPipeline_.pushConstants(
+          cmd, geometry.cutoutPush(view.reversedDepthViewProj, glm::vec4(cameraPosition, 1.0f), draw));
+    });
+  }
   cmd.endRendering();
 
   const gpu::Transition toGeneral{vk::ImageLayout::eColorAttachmentOptimal, vk::ImageLayout::eGeneral,

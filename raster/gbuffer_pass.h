@@ -38,6 +38,7 @@ class GBufferPass {
   gpu::Image position_, normal_, albedo_, faceNormal_, depth_;
   gpu::Buffer positionReadback_, normalReadback_;
   gpu::GraphicsPipeline pipeline_;
+  gpu::GraphicsPipeline cutoutPipeline_;  // cut-out meshes: nothing where their texture cuts them away
 };
 
 }  // namespace penumbra::raster

@@ -1,6 +1,9 @@
 #include "raster/scene_geometry.h"
 
+#include <algorithm>
 #include <limits>
+
+#include "core/cutouts.h"
 
 namespace penumbra::raster {
 namespace {
@@ -11,23 +14,63 @@ std::size_t vertexCount(const Scene& scene) {
   return n;
 }
 
+bool anyCutout(const Scene& scene) {
+  return std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return m.cutout.has_value(); });
+}
+
+// Texture coordinates for every vertex when the scene has cut-outs, else one unused word.
+std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
+  if (!anyCutout(scene)) return {glm::vec2(0.0f), glm::vec2(0.0f)};
+  std::vector<glm::vec2> uvs;
+  uvs.reserve(vertexCount(scene));
+  for (const Mesh& m : scene.meshes) {
+    if (m.cutout) uvs.insert(uvs.end(), m.uvs.begin(), m.uvs.end());
+    else uvs.resize(uvs.size() + m.positions.size(), glm::vec2(0.0f));
+  }
+  return uvs;
+}
+
+template <typename T>
+gpu::Buffer uploaded(const gpu::Context& context, const std::vector<T>& values, vk::BufferUsageFlags usage,
+                     const char* name) {
+  gpu::Buffer buffer(context, std::max<vk::DeviceSize>(16, values.size() * sizeof(T)), usage, name);
+  buffer.upload(std::span<const T>(values));
+  return buffer;
+}
+
 }  // namespace
 
 SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene)
+    : SceneGeometry(context, scene, cutoutData(scene)) {}
+
+SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, const CutoutData& cutouts)
     : vertices_(context, vertexCount(scene) * sizeof(RasterVertex), vk::BufferUsageFlagBits::eVertexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
                 "scene vertices"),
       indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
-               "scene indices") {
+               "scene indices"),
+      uvs_(uploaded(context, textureCoordinates(scene), vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
+      texels_(uploaded(context, cutouts.texels, vk::BufferUsageFlagBits::eShaderDeviceAddress, "scene cutout texels")) {
   if (vertexCount(scene) > std::numeric_limits<std::uint32_t>::max()) {
     throw InputError("scene '" + scene.name + "' has more than 2^32 vertices; split it into smaller scenes");
   }
   auto* vertex = static_cast<RasterVertex*>(vertices_.data());
   auto* index = static_cast<std::uint32_t*>(indices_.data());
-  std::uint32_t base = 0;
+  std::uint32_t base = 0, first = 0;
   for (const Mesh& mesh : scene.meshes) {
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) *vertex++ = {mesh.positions[i], mesh.normals[i], mesh.baseColor};
     for (std::uint32_t i : mesh.indices) *index++ = base + i;
     base += std::uint32_t(mesh.positions.size());
+    const auto count = std::uint32_t(mesh.indices.size());
+    if (mesh.cutout) {
+      const Texture& t = scene.textures.at(std::size_t(mesh.cutout->texture));
+      cutouts_.push_back({first, count, cutouts.firstTexel.at(std::size_t(mesh.cutout->texture)), t.width, t.height,
+                          mesh.cutout->factor, mesh.cutout->cutoff});
+    } else if (!opaque_.empty() && opaque_.back().first + opaque_.back().second == first) {
+      opaque_.back().second += count;  // one draw for a run of opaque meshes
+    } else {
+      opaque_.emplace_back(first, count);
+    }
+    first += count;
   }
   indexCount_ = std::uint32_t(scene.triangleCount() * 3);
 }
@@ -49,5 +92,24 @@ void SceneGeometry::bind(const vk::raii::CommandBuffer& cmd) const {
 }
 
 void SceneGeometry::draw(const vk::raii::CommandBuffer& cmd) const { cmd.drawIndexed(indexCount_, 1, 0, 0, 0); }
+
+void SceneGeometry::drawOpaque(const vk::raii::CommandBuffer& cmd) const {
+  for (const auto& [first, count] : opaque_) cmd.drawIndexed(count, 1, first, 0, 0);
+}
+
+void SceneGeometry::drawCutouts(const vk::raii::CommandBuffer& cmd,
+                                const std::function<void(const CutoutDraw&)>& push) const {
+  if (cutouts_.empty()) return;
+  cmd.bindVertexBuffers(1, {uvs_.handle()}, {vk::DeviceSize(0)});
+  for (const CutoutDraw& draw : cutouts_) {
+    push(draw);
+    cmd.drawIndexed(draw.indexCount, 1, draw.firstIndex, 0, 0);
+  }
+}
+
+shared::CutoutDrawPush SceneGeometry::cutoutPush(const glm::mat4& viewProj, const glm::vec4& camera,
+                                                 const CutoutDraw& d) const {
+  return {viewProj, camera, gpu::addressHalves(texels_), d.firstTexel, d.width, d.height, d.factor, d.cutoff, 0u};
+}
 
 }  // namespace penumbra::raster

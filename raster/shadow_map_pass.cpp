@@ -8,6 +8,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "shadow_map_cutout_frag.h"
+#include "shadow_map_cutout_vert.h"
 #include "shadow_map_vert.h"
 #include "shared/raster.h"
 
@@ -140,6 +142,17 @@ ShadowMapPass::ShadowMapPass(const gpu::Context& context, const ShadowMapSetting
         d.pushConstantBytes = sizeof(shared::ShadowMapPush);
         d.name = "shadow map pipeline";
         return d;
+      }()),
+      cutoutPipeline_(context, [] {
+        gpu::GraphicsPipelineDesc d;
+        d.vertexSpirv = shadow_map_cutout_vert;
+        d.fragmentSpirv = shadow_map_cutout_frag;
+        readPositions(d);
+        readTextureCoordinates(d);
+        d.depthBias = true;
+        d.pushConstantBytes = sizeof(shared::CutoutDrawPush);
+        d.name = "shadow map cutout pipeline";
+        return d;
       }()) {}
 
 void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry,
@@ -153,7 +166,12 @@ void ShadowMapPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeomet
     pipeline_.bind(cmd, gpu::Descriptors{});
     pipeline_.pushConstants(cmd, shared::ShadowMapPush{info.viewProj[face]});
     geometry.bind(cmd);
-    geometry.draw(cmd);
+    geometry.drawOpaque(cmd);
+    if (!geometry.hasCutouts()) return;
+    cutoutPipeline_.bind(cmd, gpu::Descriptors{});
+    geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
+      cutoutPipeline_.pushConstants(cmd, geometry.cutoutPush(info.viewProj[face], glm::vec4(0.0f), draw));
+    });
   }, texelCopy(texels_, depth_));
 }
 

@@ -70,6 +70,7 @@ class ShadowMapPass {
   gpu::Buffer texels_;
   vk::raii::Sampler sampler_;
   gpu::GraphicsPipeline pipeline_;
+  gpu::GraphicsPipeline cutoutPipeline_;  // cut-out meshes: no depth where their texture cuts them away
 };
 
 }  // namespace penumbra::raster

@@ -1,4 +1,6 @@
 #include "raytrace/bvh_builder.h"
+
+#include "core/cutouts.h"
 #include "raytrace/embree_handles.h"
 
 #include <embree3/rtcore.h>
@@ -263,7 +265,9 @@ Bvh BvhBuilder::build(const Scene& scene, MeshSet set) const {
   prims.reserve(total);
   float extent = 0.0f;  // largest coordinate magnitude, the scale of rounding errors
   std::uint32_t firstId = 0;  // scene index of the mesh's first triangle
-  for (const Mesh& mesh : scene.meshes) {
+  const std::vector<std::uint32_t> firstCutout = cutoutIndices(scene);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
     const std::uint32_t meshFirst = firstId;
     firstId += std::uint32_t(mesh.triangleCount());
     if (!inMeshSet(mesh, set)) continue;
@@ -272,7 +276,8 @@ Bvh BvhBuilder::build(const Scene& scene, MeshSet set) const {
       triangleVertices(scene, mesh, t, v, extent);
       // The builder sees positions in `source` (primID); the triangle keeps its scene-wide id.
       const auto primId = std::uint32_t(source.size());
-      source.push_back({v[0], meshFirst + std::uint32_t(t), v[1], 0u, v[2], 0u});
+      const std::uint32_t cutout = firstCutout[m] == 0 ? 0u : firstCutout[m] + std::uint32_t(t);
+      source.push_back({v[0], meshFirst + std::uint32_t(t), v[1], cutout, v[2], 0u});
       const glm::vec3 lo = glm::min(v[0], glm::min(v[1], v[2]));
       const glm::vec3 hi = glm::max(v[0], glm::max(v[1], v[2]));
       prims.push_back({lo.x, lo.y, lo.z, 0u, hi.x, hi.y, hi.z, primId});

@@ -16,8 +16,8 @@ static_assert(sizeof(shared::BvhNode) == 64, "BvhNode must match std430");
 static_assert(sizeof(shared::BvhTriangle) == 48, "BvhTriangle must match std430");
 static_assert(sizeof(shared::RayQuery) == 32, "RayQuery must match std430");
 static_assert(sizeof(shared::RayHit) == 16, "RayHit must match std430");
-static_assert(sizeof(shared::BvhRaysPush) == 32, "BvhRaysPush must match std430");
-static_assert(sizeof(shared::BvhTracePush) == 32, "BvhTracePush must match std430");
+static_assert(sizeof(shared::BvhRaysPush) == 48, "BvhRaysPush must match std430");
+static_assert(sizeof(shared::BvhTracePush) == 48, "BvhTracePush must match std430");
 
 struct BvhBuildSettings {
   std::uint32_t maxLeafSize = 4;  // triangles per leaf, 1..kMaxLeafSize

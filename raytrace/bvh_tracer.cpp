@@ -70,6 +70,7 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
              vk::BufferUsageFlagBits::eShaderDeviceAddress, "bvh nodes"),
       triangles_(context, (bvh.triangles.size() + dynamic_.triangleCount()) * sizeof(shared::BvhTriangle),
                  vk::BufferUsageFlagBits::eShaderDeviceAddress, "bvh triangles"),
+      cutouts_(context, scene),
       counters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
                 "bvh counters"),
       raysCounters_(context, kCounterBytes, vk::BufferUsageFlagBits::eStorageBuffer, "bvh ray counters"),
@@ -88,13 +89,13 @@ BvhTracer::BvhTracer(const gpu::Context& context, const Scene& scene, Bvh bvh, c
     stats_.buildMs += d.buildMs;
     dynamic_.attach(nodes_, triangles_, dynamicRoot_, staticTriangles_);
   }
-  stats_.bytes = nodes_.size() + triangles_.size();
+  stats_.bytes = nodes_.size() + triangles_.size() + cutouts_.bytes();
 }
 
 BvhRefitReport BvhTracer::update(const Scene& scene) { return dynamic_.update(scene); }
 
 shared::BvhAddresses BvhTracer::addresses() const {
-  return {gpu::addressHalves(nodes_), gpu::addressHalves(triangles_)};
+  return cutouts_.with({gpu::addressHalves(nodes_), gpu::addressHalves(triangles_), {}, {}});
 }
 
 void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) {

@@ -12,6 +12,7 @@
 #include "gpu/pipeline.h"
 #include "raytrace/bvh_builder.h"
 #include "raytrace/bvh_refit.h"
+#include "raytrace/cutout_buffers.h"
 #include "raytrace/ray_batches.h"
 #include "raytrace/shadow_tracer.h"
 
@@ -72,6 +73,7 @@ class BvhTracer final : public ShadowTracer {
   std::uint32_t staticTriangles_ = 0;
   gpu::Buffer nodes_;
   gpu::Buffer triangles_;
+  CutoutBuffers cutouts_;
   gpu::Buffer counters_;      // BVH_COUNTER_WORDS uint: rays, node visits, triangle tests (64-bit each)
   gpu::Buffer raysCounters_;  // the same for traceRays, so it never disturbs a recorded trace
   gpu::ComputePipeline tracePipeline_;

@@ -19,7 +19,7 @@ namespace penumbra {
 
 static_assert(sizeof(shared::CsBox) == 32, "CsBox must match std430");
 static_assert(sizeof(shared::CsParams) == 32, "CsParams must match std430");
-static_assert(sizeof(shared::CsRaysPush) == 64, "CsRaysPush must match std430");
+static_assert(sizeof(shared::CsRaysPush) == 80, "CsRaysPush must match std430");
 
 // A box that gets a line space, and the index of its node in its hierarchy.
 struct CandidateBox {

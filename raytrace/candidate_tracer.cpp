@@ -59,6 +59,7 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
       nodes_(uploaded(context, bvh_.nodes, vk::BufferUsageFlagBits::eShaderDeviceAddress, "candidate bvh nodes")),
       triangles_(uploaded(context, bvh_.triangles, vk::BufferUsageFlagBits::eShaderDeviceAddress,
                           "candidate bvh triangles")),
+      cutouts_(context, scene),
       buffers_(context, lineSpace_, nodeMap_),
       sceneTriangles_(uploaded(context, sceneTriangles(scene), vk::BufferUsageFlagBits::eShaderDeviceAddress,
                                "candidate scene triangles")),
@@ -72,7 +73,7 @@ shared::CsParams CandidateTracer::params() const {
 }
 
 shared::BvhAddresses CandidateTracer::bvhAddresses() const {
-  return {gpu::addressHalves(nodes_), gpu::addressHalves(triangles_)};
+  return cutouts_.with({gpu::addressHalves(nodes_), gpu::addressHalves(triangles_), {}, {}});
 }
 
 gpu::Descriptors& CandidateTracer::addBindings(gpu::Descriptors& descriptors) const {
@@ -80,7 +81,7 @@ gpu::Descriptors& CandidateTracer::addBindings(gpu::Descriptors& descriptors) co
 }
 
 std::uint64_t CandidateTracer::bytes() const {
-  return nodes_.size() + triangles_.size() + buffers_.bytes() + sceneTriangles_.size();
+  return nodes_.size() + triangles_.size() + cutouts_.bytes() + buffers_.bytes() + sceneTriangles_.size();
 }
 
 std::vector<shared::RayHit> CandidateTracer::traceRays(std::span<const shared::RayQuery> rays, bool useLineSpace) {

@@ -12,6 +12,7 @@
 #include "gpu/pipeline.h"
 #include "raytrace/candidate_buffers.h"
 #include "raytrace/candidate_line_space.h"
+#include "raytrace/cutout_buffers.h"
 #include "raytrace/ray_batches.h"
 #include "raytrace/shadow_tracer.h"
 
@@ -71,6 +72,7 @@ class CandidateTracer {
   CandidateLineSpace lineSpace_;
   float maxDeviationDeg_;
   gpu::Buffer nodes_, triangles_;
+  CutoutBuffers cutouts_;
   CandidateBuffers buffers_;
   gpu::Buffer sceneTriangles_;
   gpu::Buffer counters_;

@@ -12,6 +12,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/cutouts.h"
 #include "raytrace/embree_handles.h"
 #include "shared/alpha.h"
 #include "shared/frame.h"
@@ -73,13 +74,11 @@ bool occluded(RTCScene scene, RTCIntersectContext& context, const glm::vec3& ori
 }
 
 
-// A cut-out mesh's data for its filter (a copy: the tracer outlives the Scene).
+// A cut-out mesh's filter data: the scene's cut-outs (core/cutouts.h, as the GPU tracers read them)
+// and the index of the mesh's first CutoutTriangle there.
 struct CutoutGeometry {
-  std::vector<std::uint32_t> indices;
-  std::vector<glm::vec2> uvs;
-  std::vector<std::uint8_t> alpha;  // the texture's alpha channel, width * height
-  std::uint32_t width = 0, height = 0;
-  float factor = 1.0f, cutoff = 0.5f;
+  const CutoutData* data;
+  std::uint32_t first;
 };
 
 // Intersection and occlusion filter of a cut-out mesh: a candidate hit where the texture is cut
@@ -88,12 +87,13 @@ void cutoutFilter(const RTCFilterFunctionNArguments* args) {
   const auto* g = static_cast<const CutoutGeometry*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
-    const std::uint32_t t = RTCHitN_primID(args->hit, args->N, i);
-    const glm::vec2 uv = shared::cutoutUv(g->uvs[g->indices[3 * t]], g->uvs[g->indices[3 * t + 1]],
-                                          g->uvs[g->indices[3 * t + 2]], RTCHitN_u(args->hit, args->N, i),
-                                          RTCHitN_v(args->hit, args->N, i));
-    const std::uint8_t alpha = g->alpha[shared::cutoutTexel(uv, g->width, g->height)];
-    if (!shared::cutoutSolid(alpha, g->factor, g->cutoff)) args->valid[i] = 0;
+    const shared::CutoutTriangle& c = g->data->triangles[g->first + RTCHitN_primID(args->hit, args->N, i)];
+    const glm::vec2 uv =
+        shared::cutoutUv(c.uv0, c.uv1, c.uv2, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    const std::uint32_t texel = c.texels + shared::cutoutTexel(uv, c.width, c.height);
+    if (!shared::cutoutSolid(shared::cutoutAlpha(g->data->texels[texel / 4], texel), c.factor, c.cutoff)) {
+      args->valid[i] = 0;
+    }
   }
 }
 
@@ -108,24 +108,14 @@ struct EmbreeTracer::Impl {
   ScenePtr scene;
   std::vector<std::uint32_t> geomToMesh;  // Embree geomID -> Scene mesh index (empty meshes skipped)
   std::vector<std::uint32_t> geomFirstTriangle;  // Embree geomID -> scene-order index of its first triangle
-  std::vector<std::unique_ptr<CutoutGeometry>> cutouts;  // their filters' data
+  CutoutData cutouts;                          // the scene's cut-outs, which the filters read
+  std::vector<CutoutGeometry> cutoutGeometries;  // each cut-out mesh's filter data (reserved: stable)
 
-  void addCutout(RTCGeometry geom, const Scene& scene, const Mesh& mesh) {
-    const Cutout& c = *mesh.cutout;
-    const Texture& texture = scene.textures.at(std::size_t(c.texture));
-    auto g = std::make_unique<CutoutGeometry>();
-    g->indices = mesh.indices;
-    g->uvs = mesh.uvs;
-    g->width = texture.width;
-    g->height = texture.height;
-    g->alpha.resize(std::size_t(texture.width) * texture.height);
-    for (std::size_t i = 0; i < g->alpha.size(); ++i) g->alpha[i] = texture.rgba[4 * i + 3];
-    g->factor = c.factor;
-    g->cutoff = c.cutoff;
-    rtcSetGeometryUserData(geom, g.get());
+  void addCutout(RTCGeometry geom, std::uint32_t first) {
+    const CutoutGeometry& g = cutoutGeometries.emplace_back(CutoutGeometry{&cutouts, first - 1});
+    rtcSetGeometryUserData(geom, const_cast<CutoutGeometry*>(&g));
     rtcSetGeometryIntersectFilterFunction(geom, &cutoutFilter);
     rtcSetGeometryOccludedFilterFunction(geom, &cutoutFilter);
-    cutouts.push_back(std::move(g));
   }
   double buildMs = 0.0;
 
@@ -167,6 +157,9 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
   // Robust mode avoids cracks between adjacent triangles that would leak light through meshes.
   rtcSetSceneFlags(m.scene.get(), RTC_SCENE_FLAG_ROBUST);
 
+  m.cutouts = cutoutData(scene);
+  const std::vector<std::uint32_t> firstCutout = cutoutIndices(scene);
+  m.cutoutGeometries.reserve(scene.meshes.size());
   std::uint32_t firstTriangle = 0;
   for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
     const Mesh& mesh = scene.meshes[mi];
@@ -195,7 +188,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) : impl_(std::make_unique<Impl>())
       vertices[3 * v + 2] = mesh.positions[v].z;
     }
     std::copy_n(mesh.indices.begin(), triangles * 3, indices);
-    if (mesh.cutout) m.addCutout(geom.get(), scene, mesh);
+    if (firstCutout[mi] != 0) m.addCutout(geom.get(), firstCutout[mi]);
     rtcCommitGeometry(geom.get());
     const unsigned id = rtcAttachGeometry(m.scene.get(), geom.get());
     m.check("geometry commit");

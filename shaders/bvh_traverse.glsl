@@ -14,15 +14,30 @@
 // reference.
 #ifndef PENUMBRA_BVH_TRAVERSE_GLSL
 #define PENUMBRA_BVH_TRAVERSE_GLSL
+#include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "triangle_test.glsl"
 
 #ifdef BVH_ADDRESSES
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhTriangleArray { BvhTriangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhCutoutArray { CutoutTriangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer BvhTexelArray { uint v[]; };
 #define bvhNodes BvhNodeArray(BVH_ADDRESSES.nodes).v
 #define bvhTriangles BvhTriangleArray(BVH_ADDRESSES.triangles).v
+
+// Whether a candidate hit at barycentrics `bary` on cut-out triangle `cutout` (BvhTriangle.cutout)
+// falls where its texture cuts it away (shared/alpha.h's rule, as the reference's filter).
+bool bvhCutAway(uint cutout, vec2 bary) {
+  CutoutTriangle c = BvhCutoutArray(BVH_ADDRESSES.cutouts).v[cutout - 1u];
+  uint texel = c.texels + cutoutTexel(cutoutUv(c.uv0, c.uv1, c.uv2, bary.x, bary.y), c.width, c.height);
+  uint alpha = cutoutAlpha(BvhTexelArray(BVH_ADDRESSES.cutoutTexels).v[texel >> 2], texel);
+  return !cutoutSolid(alpha, c.factor, c.cutoff);
+}
 #else
+// Kernels that read the BVH through bindings (the line space's exact mode, the N-tree's indirect
+// rays) do not test cut-outs yet: their triangles count as solid.
+bool bvhCutAway(uint cutout, vec2 bary) { return false; }
 layout(std430, binding = BVH_BINDING_NODES) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
 layout(std430, binding = BVH_BINDING_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
 #endif
@@ -59,15 +74,17 @@ vec3 bvhInverseDirection(vec3 dir) {
 }
 
 // Tests the `count` triangles of a leaf from `first`; a hit shortens tMax (closest hit) and is
-// kept in `hit`. Returns whether it found one.
+// kept in `hit`, unless a cut-out's texture cuts it away there. Returns whether it found one.
 bool bvhLeaf(uint first, uint count, vec3 origin, vec3 dir, float tMin, inout float tMax, inout RayHit hit,
              bool anyHit) {
   bool found = false;
   for (uint i = first; i < first + count; ++i) {
     ++bvhTriangleTests;
     BvhTriangle tri = bvhTriangles[i];
-    float t = bvhTriangleHit(tri, origin, dir, tMin, tMax);
+    vec2 bary;
+    float t = bvhTriangleHit(tri, origin, dir, tMin, tMax, bary);
     if (t < 0.0f) continue;
+    if (tri.cutout != 0u && bvhCutAway(tri.cutout, bary)) continue;  // the ray passes through
     hit = RayHit(t, tri.id, 0u, 0u);
     found = true;
     if (anyHit) break;

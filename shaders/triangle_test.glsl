@@ -30,8 +30,10 @@ vec3 bvhStableNormal(vec3 a, vec3 b, vec3 c) {
   return mix(bc, ab, lessThan(abs(abTerm), abs(bcTerm)));
 }
 
-// Ray distance to triangle `tri` if the ray hits it within [tMin, tMax], else a negative value.
-float bvhTriangleHit(BvhTriangle tri, vec3 origin, vec3 dir, float tMin, float tMax) {
+// Ray distance to triangle `tri` if the ray hits it within [tMin, tMax], else a negative value;
+// `bary` gets the hit's barycentrics (u, v) of v1 and v2, as Embree reports them (its U, V, W
+// edge functions over their sum).
+float bvhTriangleHit(BvhTriangle tri, vec3 origin, vec3 dir, float tMin, float tMax, out vec2 bary) {
   precise vec3 v0 = tri.v0 - origin;
   precise vec3 v1 = tri.v1 - origin;
   precise vec3 v2 = tri.v2 - origin;
@@ -43,12 +45,20 @@ float bvhTriangleHit(BvhTriangle tri, vec3 origin, vec3 dir, float tMin, float t
   precise float v = bvhDot(bvhCross(e1, v0 + v1), dir);
   precise float w = bvhDot(bvhCross(e2, v1 + v2), dir);
   precise float eps = 1.1920929e-7f * abs(u + v + w);  // float epsilon relative to the sum, as Embree
+  bary = vec2(0.0f);
   if (!(min(u, min(v, w)) >= -eps || max(u, max(v, w)) <= eps)) return -1.0f;
   precise vec3 n = bvhStableNormal(e0, e1, e2);
   precise float den = 2.0f * bvhDot(n, dir);
   if (den == 0.0f) return -1.0f;  // the ray lies in the triangle's plane
   precise float t = (2.0f * bvhDot(v0, n)) / den;
-  return (t >= tMin && t <= tMax) ? t : -1.0f;
+  if (!(t >= tMin && t <= tMax)) return -1.0f;
+  bary = vec2(u, v) / (u + v + w);
+  return t;
+}
+
+float bvhTriangleHit(BvhTriangle tri, vec3 origin, vec3 dir, float tMin, float tMax) {
+  vec2 bary;
+  return bvhTriangleHit(tri, origin, dir, tMin, tMax, bary);
 }
 
 #endif  // PENUMBRA_TRIANGLE_TEST_GLSL

@@ -50,7 +50,7 @@ struct BvhTriangle {
   vec3 v0;
   uint id;  // triangle index in scene order (meshes in order, triangles in order within each)
   vec3 v1;
-  uint pad0;
+  uint cutout;  // 0: opaque; else alpha-tested, 1 + its CutoutTriangle's index (shared/alpha.h)
   vec3 v2;
   uint pad1;
 };
@@ -79,14 +79,17 @@ struct RayHit {
 };
 
 // Where bvh_trace.comp and bvh_rays.comp find the trees: the device addresses of the node and
-// triangle buffers, each as (low, high) 32-bit halves. Read through addresses, a tree is bounded by
-// what one buffer may hold (2 GiB on lavapipe), not by one binding's range (128 MiB).
+// triangle buffers, and of the cut-out triangles and their textures' alpha words (shared/alpha.h),
+// each as (low, high) 32-bit halves. Read through addresses, a tree is bounded by what one buffer
+// may hold (2 GiB on lavapipe), not by one binding's range (128 MiB).
 struct BvhAddresses {
   uvec2 nodes;
   uvec2 triangles;
+  uvec2 cutouts;
+  uvec2 cutoutTexels;
 };
 
-// Push constants of bvh_rays.comp, 32 bytes.
+// Push constants of bvh_rays.comp, 48 bytes.
 struct BvhRaysPush {
   BvhAddresses bvh;
   uint first;        // first ray of this dispatch
@@ -95,7 +98,7 @@ struct BvhRaysPush {
   uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE
 };
 
-// Push constants of bvh_trace.comp, 32 bytes.
+// Push constants of bvh_trace.comp, 48 bytes.
 struct BvhTracePush {
   BvhAddresses bvh;
   uint dynamicRoot;  // root node of the dynamic tree, or BVH_NO_TREE

@@ -80,7 +80,7 @@ struct CsParams {
 #define CS_MODE_BVH_EXACT 1u  // the same BVH, every node descended (the exact reference on the GPU)
 #define CS_MODE_BOX 2u        // csHit on line space `box` alone
 
-// Push constants of candidate_rays.comp, 64 bytes.
+// Push constants of candidate_rays.comp, 80 bytes.
 struct CsRaysPush {
   BvhAddresses bvh;  // the BVH's node and triangle buffers (shared/bvh.h)
   CsParams cs;

@@ -33,5 +33,20 @@ struct ShadowMapPush {  // 64 bytes
   mat4 viewProj;
 };
 
+// The cut-out meshes' draws in the camera and light passes (gbuffer_cutout.*, shadow_map_cutout.*),
+// 112 bytes: the pass's matrix (and camera), and the mesh's cut-out (shared/alpha.h) with its
+// texture in the alpha words at device address `texels`.
+struct CutoutDrawPush {
+  mat4 viewProj;
+  vec4 cameraPosition;  // the camera pass's
+  uvec2 texels;         // (low, high) address of the alpha words, four texels a word
+  uint first;           // the texture's first texel there
+  uint width;
+  uint height;
+  float factor;
+  float cutoff;
+  uint pad0;
+};
+
 PN_END
 #endif

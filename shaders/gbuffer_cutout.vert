@@ -1,0 +1,12 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/raster.h"
+// Camera pass of a cut-out mesh: gbuffer.vert's attributes and the texture coordinate.
+layout(push_constant) uniform PushBlock { CutoutDrawPush push; };
+#include "gbuffer_vertex.glsl"
+layout(location = 4) in vec2 inUv;
+layout(location = 4) out vec2 uv;
+void main() {
+  gbufferVertex();
+  uv = inUv;
+}
