@@ -108,6 +108,15 @@ if [ ! -f "$scenes/maple/japaneseMaple.obj" ]; then
 fi
 licence "$scenes/maple" sweethome3d-furniture
 
+# Alpha-tested content (issue 41): Scopia's football goal (CC-BY 3.0), whose net is a few quads cut
+# out by their texture's alpha (map_d); bench/make_scenes.py stands it on a ground (goal_stage.obj).
+mkdir -p "$scenes/goal"
+if [ ! -f "$scenes/goal/big-football-goal.obj" ]; then
+  unzip -o -q -j "$models/sweethome3d-furniture/usr/share/sweethome3d/furniture/Scopia.sh3f" \
+    'scopia/big-football-goal/*' -d "$scenes/goal"
+fi
+licence "$scenes/goal" sweethome3d-furniture
+
 # Two ships from FlightGear's models (GPL-2+): the carrier USS Harry S. Truman (99K faces, masts,
 # antennas, deck markings) and a sailing boat with rigging (AC3D -> glb).
 unpack flightgear-data-models

@@ -1,7 +1,9 @@
 // Wavefront OBJ loader. tinyobj parses from memory so that it never opens files itself: the
-// material libraries are read here, and only from the OBJ's own folder. Coordinates are parsed in
+// material libraries and alpha maps (map_d: cut-outs, docs/methods.md) are read here, and only from
+// the OBJ's own folder. Coordinates are parsed in
 // double (tinyobjloader_double) and stored relative to the scene's origin, so that georeferenced
 // files keep their detail.
+#include <array>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +15,7 @@
 #include <tiny_obj_loader.h>
 
 #include "core/scene_loader.h"
+#include "core/texture.h"
 
 namespace penumbra {
 
@@ -64,6 +67,36 @@ std::string materialText(const std::string& objText, const std::string& path, co
   return text;
 }
 
+// A material's map_d (the Wavefront alpha map) as a Scene texture: the image's alpha channel, or its
+// luminance when it has none (the spec's default channel for map_d on a colour image). Decoded once
+// per file; InputError for one outside the OBJ's folder, missing or corrupt.
+struct AlphaMaps {
+  const std::string& path;
+  const std::string& folder;
+  Scene& scene;
+  std::map<std::string, std::int32_t> loaded;
+
+  std::int32_t operator()(const std::string& name) {
+    if (const auto known = loaded.find(name); known != loaded.end()) return known->second;
+    const std::string why = confinedPathProblem(folder, name);
+    if (!why.empty()) fail(path, "alpha map '" + name + "' is outside the OBJ's folder (" + why + ")", "copy it beside the OBJ");
+    std::string bytes;
+    if (!readText((fs::path(folder) / name).string(), bytes)) {
+      fail(path, "alpha map '" + name + "' could not be read", "put it beside the OBJ");
+    }
+    int channels = 0;
+    Texture t = decodeTexture(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                              path + ": " + name, &channels);
+    if (channels == 1 || channels == 3) {
+      for (std::size_t i = 0; i + 3 < t.rgba.size(); i += 4) {
+        t.rgba[i + 3] = std::uint8_t((299u * t.rgba[i] + 587u * t.rgba[i + 1] + 114u * t.rgba[i + 2] + 500u) / 1000u);
+      }
+    }
+    scene.textures.push_back(std::move(t));
+    return loaded[name] = std::int32_t(scene.textures.size() - 1);
+  }
+};
+
 std::string firstLines(const std::string& message) {
   std::string s = trimmed(message);
   for (char& c : s) c = c == '\n' ? ' ' : c;
@@ -110,14 +143,20 @@ Scene loadObj(const std::string& path) {
     }
   }
   scene.origin = world.origin();
+  AlphaMaps alphaMaps{path, folder, scene, {}};
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const tinyobj::mesh_t& src = shapes[s].mesh;
     const std::string shapeName = shapes[s].name.empty() ? "shape" + std::to_string(s) : shapes[s].name;
-    // One Mesh per (shape, material); vertices deduplicated by (position, normal) index pair.
+    // One Mesh per (shape, material); vertices deduplicated by (position, normal) index pair, and
+    // by texture coordinate too in a cut-out (a material with map_d), which keeps them.
     struct Part {
       Mesh mesh;
       std::unordered_map<std::uint64_t, std::uint32_t> remap;
+      std::map<std::array<int, 3>, std::uint32_t> cutoutRemap;
       bool allNormals = true;
+    };
+    const auto cutout = [&](int material) {
+      return material >= 0 && std::size_t(material) < materials.size() && !trimmed(materials[std::size_t(material)].alpha_texname).empty();
     };
     std::map<int, Part> parts;
     for (std::size_t i = 0; i < src.indices.size(); ++i) {
@@ -132,8 +171,25 @@ Scene loadObj(const std::string& path) {
       }
       const int material = i / 3 < src.material_ids.size() ? src.material_ids[i / 3] : -1;
       Part& part = parts[material];
+      const auto next = std::uint32_t(part.mesh.positions.size());
       const std::uint64_t key = std::uint64_t(std::uint32_t(idx.vertex_index)) << 32 | std::uint32_t(idx.normal_index + 1);
-      auto [it, inserted] = part.remap.try_emplace(key, std::uint32_t(part.mesh.positions.size()));
+      const bool cut = cutout(material);
+      std::uint32_t index = next;
+      bool inserted = true;
+      if (cut) {
+        const auto [at, added] = part.cutoutRemap.try_emplace({idx.vertex_index, idx.normal_index, idx.texcoord_index}, next);
+        index = at->second;
+        inserted = added;
+      } else {
+        const auto [at, added] = part.remap.try_emplace(key, next);
+        index = at->second;
+        inserted = added;
+      }
+      if (inserted && cut) {
+        const bool has = idx.texcoord_index >= 0 && std::size_t(2 * idx.texcoord_index + 1) < attrib.texcoords.size();
+        const tinyobj::real_t* t = has ? &attrib.texcoords[2 * std::size_t(idx.texcoord_index)] : nullptr;
+        part.mesh.uvs.emplace_back(has ? float(t[0]) : 0.0f, has ? 1.0f - float(t[1]) : 0.0f);  // OBJ's v points up
+      }
       if (inserted) {
         part.mesh.positions.emplace_back(vertex(idx.vertex_index) - scene.origin);
         if (idx.normal_index >= 0) {
@@ -143,7 +199,7 @@ Scene loadObj(const std::string& path) {
           part.allNormals = false;
         }
       }
-      part.mesh.indices.push_back(it->second);
+      part.mesh.indices.push_back(index);
     }
     for (auto& [material, part] : parts) {
       Mesh& mesh = part.mesh;
@@ -152,6 +208,7 @@ Scene loadObj(const std::string& path) {
         const tinyobj::material_t& m = materials[std::size_t(material)];
         if (parts.size() > 1) mesh.name += "/" + m.name;
         mesh.baseColor = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
+        if (cutout(material)) mesh.cutout = Cutout{alphaMaps(trimmed(m.alpha_texname)), float(m.dissolve), 0.5f};
       }
       if (!part.allNormals) mesh.normals.clear();  // cleanScene derives them from the faces
       scene.meshes.push_back(std::move(mesh));

@@ -18,14 +18,14 @@
 
 namespace penumbra {
 
-Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& name) {
+Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& name, int* channels) {
   const auto refuse = [&](const std::string& why) -> Texture {
     throw InputError("image '" + name + "' " + why + "; re-export the model with PNG or JPEG images");
   };
   if (encoded.empty()) return refuse("is empty");
   if (encoded.size() > std::size_t(INT32_MAX)) return refuse("is larger than 2 GiB");
-  int width = 0, height = 0, channels = 0;
-  if (!stbi_info_from_memory(encoded.data(), int(encoded.size()), &width, &height, &channels)) {
+  int width = 0, height = 0, own = 0;
+  if (!stbi_info_from_memory(encoded.data(), int(encoded.size()), &width, &height, &own)) {
     return refuse(std::string("cannot be decoded (") + stbi_failure_reason() + ")");
   }
   if (width <= 0 || height <= 0 || std::uint32_t(width) > kMaxTextureSide || std::uint32_t(height) > kMaxTextureSide) {
@@ -33,8 +33,9 @@ Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& 
                   std::to_string(kMaxTextureSide) + " texels a side accepted");
   }
   const std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
-      stbi_load_from_memory(encoded.data(), int(encoded.size()), &width, &height, &channels, 4), &stbi_image_free);
+      stbi_load_from_memory(encoded.data(), int(encoded.size()), &width, &height, &own, 4), &stbi_image_free);
   if (!pixels) return refuse(std::string("cannot be decoded (") + stbi_failure_reason() + ")");
+  if (channels != nullptr) *channels = own;
   Texture t;
   t.name = name;
   t.width = std::uint32_t(width);

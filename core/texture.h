@@ -14,6 +14,7 @@ inline constexpr std::uint64_t kMaxTextureBytes = std::uint64_t(2) << 30;
 
 // Decodes PNG or JPEG bytes to RGBA8. InputError naming `name` for an empty, corrupt or unsupported
 // image or one with a side over kMaxTextureSide (checked from the header, before decoding).
-Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& name);
+// `channels`, when given, gets the image's own channel count (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA).
+Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& name, int* channels = nullptr);
 
 }  // namespace penumbra

@@ -45,7 +45,9 @@ bool thinOnFace(vec4 c0, vec4 c1, vec4 c2, vec3 w0, vec3 w1, vec3 w2, out vec4 q
     float longest = sqrt(max(dot(e0, e0), max(dot(e1, e1), dot(e2, e2)))) / size;
     thin = thinMeasure(longest, length(cross(e0, e2)) / (size * size), push.maxWidthTexels, push.minAspect);
   }
-  if (!thin) return false;
+  // A cut-out triangle may hold holes finer than a texel anywhere inside it (its texture's), which
+  // the map cannot show: the mask keeps all of it, as it keeps a thin triangle.
+  if (!thin && push.cutouts == 0u) return false;
   vec2 lo = min(min(p0, p1), min(p2, p3));
   vec2 hi = max(max(p0, p1), max(p2, p3));
   return !(hi.x <= 0.0 || hi.y <= 0.0 || lo.x >= res || lo.y >= res);  // else it touches no texel

@@ -95,4 +95,21 @@ TEST(CutoutLoading, ImagesThatCannotBeReadAreErrors) {
                    {"outside.png", "outside the model's folder"});
 }
 
+// An OBJ quad whose material's map_d cuts it out; the map's alpha is the image's.
+TEST(CutoutLoading, ObjAlphaMapCutsOutItsMaterial) {
+  TempDir dir;
+  writeFile(dir.file("net.png"), checkerPng(dir));
+  writeFile(dir.file("m.mtl"), std::string("newmtl net\nKd 0.6 0.6 0.6\nd 0.9\nmap_d net.png\nnewmtl gone\nmap_d absent.png\n"));
+  const std::string quad = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+  writeFile(dir.file("a.obj"), quad + "usemtl net\nf 1/1 2/2 3/3 4/4\n");
+  const Scene s = penumbra::loadScene(dir.file("a.obj"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_TRUE(s.meshes[0].cutout.has_value());
+  EXPECT_FLOAT_EQ(s.meshes[0].cutout->factor, 0.9f);
+  ASSERT_EQ(s.meshes[0].uvs.size(), 4u);
+  EXPECT_EQ(s.meshes[0].uvs[0], glm::vec2(0.0f, 1.0f)) << "OBJ's v points up, the texture's rows down";
+  writeFile(dir.file("b.obj"), quad + "usemtl gone\nf 1/1 2/2 3/3 4/4\n");
+  expectInputError([&] { penumbra::loadScene(dir.file("b.obj")); }, {"absent.png", "could not be read"});
+}
+
 }  // namespace
