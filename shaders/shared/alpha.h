@@ -27,9 +27,9 @@ PN_FN bool cutoutSolid(uint alpha8, float factor, float cutoff) {
   return factor * (float(alpha8) / 255.0f) >= cutoff;
 }
 
-// A triangle of a cut-out mesh as the GPU tracers test it (raytrace/cutout_buffers), std430 48
-// bytes; BvhTriangle.cutout is 1 + its index. Its texture's alpha lies in a buffer of words, four
-// texels to a word (the lowest byte first), from texel `texels` on.
+// A triangle of a cut-out mesh as the tracers test it (core/cutouts.h), std430 48 bytes;
+// BvhTriangle.cutout is 1 + its index. Its texture's alpha lies in a buffer of words, four texels
+// to a word (the lowest byte first), from texel `texels` on.
 struct CutoutTriangle {
   vec2 uv0;
   vec2 uv1;
@@ -42,7 +42,7 @@ struct CutoutTriangle {
   uint pad0;
 };
 
-// The alpha of texel `texel` (counted from the texture's first) from its word.
+// The alpha of texel `texel` (its index among all the words' texels) from its word, texel / 4.
 PN_FN uint cutoutAlpha(uint word, uint texel) {
   return (word >> (8u * (texel & 3u))) & 0xffu;
 }
