@@ -106,29 +106,37 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
   return true;
 }
 
-// KHR_texture_transform of a texture reference, baked into texture coordinates: offset, rotation
-// and scale as the extension composes them (T * R * S). Returns the texCoord set it selects.
-int applyTextureTransform(const tinygltf::TextureInfo& info, std::vector<glm::vec2>* uvs) {
-  const auto ext = info.extensions.find("KHR_texture_transform");
-  if (ext == info.extensions.end() || !ext->second.IsObject()) return info.texCoord;
-  const tinygltf::Value& t = ext->second;
-  const auto number = [](const tinygltf::Value& v, double fallback) { return v.IsNumber() ? v.GetNumberAsDouble() : fallback; };
-  const auto pair = [&](const char* key, glm::dvec2 fallback) {
-    const tinygltf::Value& v = t.Get(key);
-    return v.IsArray() && v.ArrayLen() == 2 ? glm::dvec2(number(v.Get(0), fallback.x), number(v.Get(1), fallback.y))
-                                            : fallback;
-  };
-  const glm::dvec2 offset = pair("offset", glm::dvec2(0.0)), scale = pair("scale", glm::dvec2(1.0));
-  const double rotation = number(t.Get("rotation"), 0.0), c = std::cos(rotation), s = std::sin(rotation);
-  if (uvs != nullptr) {
-    for (glm::vec2& uv : *uvs) {
+// A texture reference's KHR_texture_transform (offset, rotation, scale, composed T * R * S, and the
+// texCoord set it may select instead); identity without the extension.
+struct TextureTransform {
+  glm::dvec2 offset{0.0}, scale{1.0};
+  double rotation = 0.0;
+  int texCoord = 0;
+
+  explicit TextureTransform(const tinygltf::TextureInfo& info) : texCoord(info.texCoord) {
+    const auto ext = info.extensions.find("KHR_texture_transform");
+    if (ext == info.extensions.end() || !ext->second.IsObject()) return;
+    const tinygltf::Value& t = ext->second;
+    const auto number = [](const tinygltf::Value& v, double fallback) { return v.IsNumber() ? v.GetNumberAsDouble() : fallback; };
+    const auto pair = [&](const char* key, glm::dvec2 fallback) {
+      const tinygltf::Value& v = t.Get(key);
+      return v.IsArray() && v.ArrayLen() == 2 ? glm::dvec2(number(v.Get(0), fallback.x), number(v.Get(1), fallback.y))
+                                              : fallback;
+    };
+    offset = pair("offset", offset);
+    scale = pair("scale", scale);
+    rotation = number(t.Get("rotation"), 0.0);
+    if (t.Get("texCoord").IsNumber()) texCoord = t.Get("texCoord").GetNumberAsInt();
+  }
+
+  void bake(std::vector<glm::vec2>& uvs) const {
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    for (glm::vec2& uv : uvs) {
       const glm::dvec2 scaled = glm::dvec2(uv) * scale;
       uv = glm::vec2(offset.x + c * scaled.x + s * scaled.y, offset.y - s * scaled.x + c * scaled.y);
     }
   }
-  const tinygltf::Value& set = t.Get("texCoord");
-  return set.IsNumber() ? set.GetNumberAsInt() : info.texCoord;
-}
+};
 
 // A unit direction under a transform's linear part (`local` itself if it collapses or overflows).
 glm::vec3 worldDirection(const glm::dmat3& linear, const glm::vec3& local) {
@@ -229,11 +237,12 @@ struct Converter {
     }
     const tinygltf::TextureInfo& info = material.pbrMetallicRoughness.baseColorTexture;
     if (info.index >= 0) {
-      const int set = applyTextureTransform(info, nullptr);
+      const TextureTransform transform(info);
+      const int set = transform.texCoord;
       const auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(set));
       if (uv != prim.attributes.end()) {
         out.uvs = gltf::readVec2(model, uv->second, "TEXCOORD_" + std::to_string(set), path);
-        applyTextureTransform(info, &out.uvs);
+        transform.bake(out.uvs);
         cutout.texture = texture(info.index);
       } else {
         scene.warnings.push_back("glTF primitive '" + out.name + "' has no TEXCOORD_" + std::to_string(set) +

@@ -1,9 +1,9 @@
 #include "raster/scene_geometry.h"
 
-#include <algorithm>
 #include <limits>
 
 #include "core/cutouts.h"
+#include "gpu/upload.h"
 
 namespace penumbra::raster {
 namespace {
@@ -14,13 +14,9 @@ std::size_t vertexCount(const Scene& scene) {
   return n;
 }
 
-bool anyCutout(const Scene& scene) {
-  return std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return m.cutout.has_value(); });
-}
-
-// Texture coordinates for every vertex when the scene has cut-outs, else one unused word.
-std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
-  if (!anyCutout(scene)) return {glm::vec2(0.0f), glm::vec2(0.0f)};
+// Texture coordinates for every vertex when the scene has cut-outs, else none.
+std::vector<glm::vec2> textureCoordinates(const Scene& scene, const CutoutData& cutouts) {
+  if (cutouts.triangles.empty()) return {};
   std::vector<glm::vec2> uvs;
   uvs.reserve(vertexCount(scene));
   for (const Mesh& m : scene.meshes) {
@@ -28,14 +24,6 @@ std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
     else uvs.resize(uvs.size() + m.positions.size(), glm::vec2(0.0f));
   }
   return uvs;
-}
-
-template <typename T>
-gpu::Buffer uploaded(const gpu::Context& context, const std::vector<T>& values, vk::BufferUsageFlags usage,
-                     const char* name) {
-  gpu::Buffer buffer(context, std::max<vk::DeviceSize>(16, values.size() * sizeof(T)), usage, name);
-  buffer.upload(std::span<const T>(values));
-  return buffer;
 }
 
 }  // namespace
@@ -48,8 +36,10 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
                 "scene vertices"),
       indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
                "scene indices"),
-      uvs_(uploaded(context, textureCoordinates(scene), vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
-      texels_(uploaded(context, cutouts.texels, vk::BufferUsageFlagBits::eShaderDeviceAddress, "scene cutout texels")) {
+      uvs_(gpu::uploadedBuffer(context, std::span<const glm::vec2>(textureCoordinates(scene, cutouts)),
+                               vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
+      texels_(gpu::uploadedBuffer(context, std::span(cutouts.texels), vk::BufferUsageFlagBits::eShaderDeviceAddress,
+                                  "scene cutout texels")) {
   if (vertexCount(scene) > std::numeric_limits<std::uint32_t>::max()) {
     throw InputError("scene '" + scene.name + "' has more than 2^32 vertices; split it into smaller scenes");
   }

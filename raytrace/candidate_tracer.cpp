@@ -5,6 +5,7 @@
 
 #include "candidate_rays_comp.h"
 #include "raytrace/bvh_tracer.h"
+#include "gpu/upload.h"
 #include "raytrace/scene_triangles.h"
 
 namespace penumbra {
@@ -24,14 +25,6 @@ constexpr auto kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
 Bvh buildBvh(const gpu::Context& context, const Scene& scene, const CandidateTracerSettings& settings) {
   context.requireSubgroupArithmetic("CandidateTracer");
   return BvhBuilder(settings.bvh).build(scene, MeshSet::All);
-}
-
-template <typename T>
-gpu::Buffer uploaded(const gpu::Context& context, const std::vector<T>& values, vk::BufferUsageFlags usage,
-                     const std::string& name) {
-  gpu::Buffer buffer(context, values.size() * sizeof(T), usage, name);
-  buffer.upload(std::span<const T>(values));
-  return buffer;
 }
 
 }  // namespace
@@ -56,13 +49,14 @@ CandidateTracer::CandidateTracer(const gpu::Context& context, const Scene& scene
                                          CandidateSettings{settings.n, settings.budgetBytes, false, context.maxBufferBytes()},
                                          context.storageBufferRange())),
       maxDeviationDeg_(settings.maxNormalDeviationDeg),
-      nodes_(uploaded(context, bvh_.nodes, vk::BufferUsageFlagBits::eShaderDeviceAddress, "candidate bvh nodes")),
-      triangles_(uploaded(context, bvh_.triangles, vk::BufferUsageFlagBits::eShaderDeviceAddress,
+      nodes_(gpu::uploadedBuffer(context, std::span(bvh_.nodes), vk::BufferUsageFlagBits::eShaderDeviceAddress,
+                                 "candidate bvh nodes")),
+      triangles_(gpu::uploadedBuffer(context, std::span(bvh_.triangles), vk::BufferUsageFlagBits::eShaderDeviceAddress,
                           "candidate bvh triangles")),
       cutouts_(context, scene),
       buffers_(context, lineSpace_, nodeMap_),
-      sceneTriangles_(uploaded(context, sceneTriangles(scene), vk::BufferUsageFlagBits::eShaderDeviceAddress,
-                               "candidate scene triangles")),
+      sceneTriangles_(gpu::uploadedBuffer(context, std::span<const shared::SceneTriangle>(sceneTriangles(scene)),
+                                          vk::BufferUsageFlagBits::eShaderDeviceAddress, "candidate scene triangles")),
       counters_(context, kCounterBytes, kStorage, "candidate counters"),
       pipeline_(context, candidate_rays_comp, kBindings, sizeof(shared::CsRaysPush), "candidate rays pipeline"),
       rayBatches_(context, "candidates") {}

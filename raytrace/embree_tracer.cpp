@@ -112,8 +112,8 @@ struct EmbreeTracer::Impl {
   std::vector<CutoutGeometry> cutoutGeometries;  // each cut-out mesh's filter data (reserved: stable)
 
   void addCutout(RTCGeometry geom, std::uint32_t first) {
-    const CutoutGeometry& g = cutoutGeometries.emplace_back(CutoutGeometry{&cutouts, first - 1});
-    rtcSetGeometryUserData(geom, const_cast<CutoutGeometry*>(&g));
+    CutoutGeometry& g = cutoutGeometries.emplace_back(CutoutGeometry{&cutouts, first - 1});
+    rtcSetGeometryUserData(geom, &g);
     rtcSetGeometryIntersectFilterFunction(geom, &cutoutFilter);
     rtcSetGeometryOccludedFilterFunction(geom, &cutoutFilter);
   }
