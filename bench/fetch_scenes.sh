@@ -116,6 +116,13 @@ if [ ! -f "$scenes/goal/big-football-goal.obj" ]; then
     'scopia/big-football-goal/*' -d "$scenes/goal"
 fi
 licence "$scenes/goal" sweethome3d-furniture
+# ... and its bush (CC-BY 3.0): leaves are cards cut out by leaf.png's alpha (map_d).
+mkdir -p "$scenes/bush"
+if [ ! -f "$scenes/bush/bush.obj" ]; then
+  unzip -o -q -j "$models/sweethome3d-furniture/usr/share/sweethome3d/furniture/Scopia.sh3f" \
+    'scopia/bush/*' -d "$scenes/bush"
+fi
+licence "$scenes/bush" sweethome3d-furniture
 
 # Two ships from FlightGear's models (GPL-2+): the carrier USS Harry S. Truman (99K faces, masts,
 # antennas, deck markings) and a sailing boat with rigging (AC3D -> glb).

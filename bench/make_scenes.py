@@ -397,26 +397,32 @@ def main():
         write_view(name, (o + (3.0, 3.2, 4.5), o + (0.0, 0.8, 0.0), 45.0), ("disk", o + (-2.5, 6.0, 1.5), o + (0.0, 0.5, 0.0)))
 
     # Alpha-tested content (issue 41): Sweet Home 3D's football goal, whose net is cut out of quads
-    # by its texture's alpha (map_d), kept as an OBJ (a glTF written here would drop the cut-out)
-    # beside its textures, with a ground quad of its own material library appended.
-    goal = os.path.join(SCENES, "goal", "big-football-goal.obj")
-    stage = os.path.join(SCENES, "goal", "goal_stage.obj")
-    if os.path.exists(goal) and not os.path.exists(stage):
-        pos, _ = read_obj(goal)
-        lo, hi = pos.min(axis=0), pos.max(axis=0)
-        c, half = (lo + hi) / 2, 0.8 * (hi - lo).max()
-        y = lo[1]
-        with open(os.path.join(SCENES, "goal", "stage.mtl"), "w") as f:
-            f.write("newmtl stage_ground\nKd 0.62 0.60 0.55\nd 1.0\n")
-        with open(goal, encoding="utf-8", errors="replace") as f:
-            text = f.read()
-        corners = [(c[0] - half, c[2] - half), (c[0] + half, c[2] - half), (c[0] + half, c[2] + half), (c[0] - half, c[2] + half)]
-        text += "\nmtllib stage.mtl\no stage_ground\n" + "".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, z in corners)
-        text += "vn 0 1 0\nusemtl stage_ground\nf -4//-1 -1//-1 -2//-1 -3//-1\n"
-        with open(stage + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(stage + ".tmp", stage)
+    # by its texture's alpha (map_d), and its bush, whose leaves are cut-out cards; each kept as an
+    # OBJ (a glTF written here would drop the cut-out) beside its textures, with a ground quad of its
+    # own material library appended.
+    stage_obj(os.path.join(SCENES, "goal"), "big-football-goal", "goal_stage")
+    stage_obj(os.path.join(SCENES, "bush"), "bush", "bush_stage")
 
+
+def stage_obj(folder, name, stage_name):
+    model = os.path.join(folder, name + ".obj")
+    stage = os.path.join(folder, stage_name + ".obj")
+    if not os.path.exists(model) or os.path.exists(stage):
+        return
+    pos, _ = read_obj(model)
+    lo, hi = pos.min(axis=0), pos.max(axis=0)
+    c, half = (lo + hi) / 2, 0.8 * (hi - lo).max()
+    y = lo[1]
+    with open(os.path.join(folder, "stage.mtl"), "w") as f:
+        f.write("newmtl stage_ground\nKd 0.62 0.60 0.55\nd 1.0\n")
+    with open(model, encoding="utf-8", errors="replace") as f:
+        text = f.read()
+    corners = [(c[0] - half, c[2] - half), (c[0] + half, c[2] - half), (c[0] + half, c[2] + half), (c[0] - half, c[2] + half)]
+    text += "\nmtllib stage.mtl\no stage_ground\n" + "".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, z in corners)
+    text += "vn 0 1 0\nusemtl stage_ground\nf -4//-1 -1//-1 -2//-1 -3//-1\n"
+    with open(stage + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(stage + ".tmp", stage)
 
 if __name__ == "__main__":
     main()

@@ -15,8 +15,11 @@ static_assert(sizeof(shared::CutoutTriangle) == 48, "CutoutTriangle must match s
 
 struct CutoutData {
   std::vector<shared::CutoutTriangle> triangles;
-  std::vector<std::uint32_t> texels;      // alpha, four texels a word, the lowest byte first
+  // Each cut-out texture's alpha, four texels a word (the lowest byte first), then its alpha
+  // ranges (shared/alpha.h), two cells a word, from a word's start.
+  std::vector<std::uint32_t> texels;
   std::vector<std::uint32_t> firstTexel;  // per Scene texture, its first texel in `texels`
+  std::vector<std::uint32_t> firstRange;  // per Scene texture, the half word of its level-1 ranges
 };
 CutoutData cutoutData(const Scene& scene);
 

@@ -38,6 +38,8 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
                "scene indices"),
       uvs_(gpu::uploadedBuffer(context, std::span<const glm::vec2>(textureCoordinates(scene, cutouts)),
                                vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
+      triangles_(gpu::uploadedBuffer(context, std::span(cutouts.triangles), vk::BufferUsageFlagBits::eShaderDeviceAddress,
+                                     "scene cutout triangles")),
       texels_(gpu::uploadedBuffer(context, std::span(cutouts.texels), vk::BufferUsageFlagBits::eShaderDeviceAddress,
                                   "scene cutout texels")) {
   if (vertexCount(scene) > std::numeric_limits<std::uint32_t>::max()) {
@@ -45,7 +47,7 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
   }
   auto* vertex = static_cast<RasterVertex*>(vertices_.data());
   auto* index = static_cast<std::uint32_t*>(indices_.data());
-  std::uint32_t base = 0, first = 0;
+  std::uint32_t base = 0, first = 0, cutoutTriangle = 0;
   for (const Mesh& mesh : scene.meshes) {
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) *vertex++ = {mesh.positions[i], mesh.normals[i], mesh.baseColor};
     for (std::uint32_t i : mesh.indices) *index++ = base + i;
@@ -53,8 +55,9 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
     const auto count = std::uint32_t(mesh.indices.size());
     if (mesh.cutout) {
       const Texture& t = scene.textures.at(std::size_t(mesh.cutout->texture));
-      cutouts_.push_back({first, count, cutouts.firstTexel.at(std::size_t(mesh.cutout->texture)), t.width, t.height,
-                          mesh.cutout->factor, mesh.cutout->cutoff});
+      cutouts_.push_back({first, count, cutoutTriangle, cutouts.firstTexel.at(std::size_t(mesh.cutout->texture)),
+                          t.width, t.height, mesh.cutout->factor, mesh.cutout->cutoff});
+      cutoutTriangle += count / 3;
     } else if (!opaque_.empty() && opaque_.back().first + opaque_.back().second == first) {
       opaque_.back().second += count;  // one draw for a run of opaque meshes
     } else {
@@ -96,6 +99,9 @@ void SceneGeometry::drawCutouts(const vk::raii::CommandBuffer& cmd,
     cmd.drawIndexed(draw.indexCount, 1, draw.firstIndex, 0, 0);
   }
 }
+
+glm::uvec2 SceneGeometry::cutoutTrianglesAddress() const { return gpu::addressHalves(triangles_); }
+glm::uvec2 SceneGeometry::cutoutTexelsAddress() const { return gpu::addressHalves(texels_); }
 
 shared::CutoutDrawPush SceneGeometry::cutoutPush(const glm::mat4& viewProj, const glm::vec4& camera,
                                                  const CutoutDraw& d) const {

@@ -42,6 +42,7 @@ static_assert(sizeof(shared::CutoutDrawPush) == 112, "CutoutDrawPush must match 
 // One cut-out mesh's draw: its indices and its cut-out as CutoutDrawPush takes it.
 struct CutoutDraw {
   std::uint32_t firstIndex = 0, indexCount = 0;
+  std::uint32_t firstTriangle = 0;  // its first triangle's CutoutTriangle (core/cutouts.h)
   std::uint32_t firstTexel = 0, width = 0, height = 0;
   float factor = 1.0f, cutoff = 0.5f;
 };
@@ -63,8 +64,13 @@ class SceneGeometry {
   void drawCutouts(const vk::raii::CommandBuffer& cmd, const std::function<void(const CutoutDraw&)>& push) const;
   // A cut-out draw's push constants in a pass with matrix `viewProj` (and the camera pass's position).
   shared::CutoutDrawPush cutoutPush(const glm::mat4& viewProj, const glm::vec4& camera, const CutoutDraw& draw) const;
+  // The addresses of the CutoutTriangles and of the alpha words (core/cutouts.h), as (low, high).
+  glm::uvec2 cutoutTrianglesAddress() const;
+  glm::uvec2 cutoutTexelsAddress() const;
   std::uint32_t indexCount() const { return indexCount_; }
-  vk::DeviceSize bytes() const { return vertices_.size() + indices_.size() + uvs_.size() + texels_.size(); }
+  vk::DeviceSize bytes() const {
+    return vertices_.size() + indices_.size() + uvs_.size() + triangles_.size() + texels_.size();
+  }
   // Also bound as storage buffers (RasterVertex as 9 floats; 3 indices per triangle) by compute passes.
   const gpu::Buffer& vertices() const { return vertices_; }
   const gpu::Buffer& indices() const { return indices_; }
@@ -74,7 +80,8 @@ class SceneGeometry {
   gpu::Buffer vertices_;
   gpu::Buffer indices_;
   gpu::Buffer uvs_;     // a texture coordinate per vertex (zero for meshes without); a word without cut-outs
-  gpu::Buffer texels_;  // the cut-out textures' alpha (core/cutouts.h), read through its address
+  gpu::Buffer triangles_;  // the CutoutTriangles and ...
+  gpu::Buffer texels_;     // ... the cut-out textures' alpha (core/cutouts.h), read through their addresses
   std::uint32_t indexCount_ = 0;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> opaque_;  // first index and count of each run of opaque meshes
   std::vector<CutoutDraw> cutouts_;

@@ -15,8 +15,8 @@
 namespace penumbra::raster {
 namespace {
 
-static_assert(sizeof(shared::ThinTrianglePush) == 96, "ThinTrianglePush must match std430 in shared/thin.h");
-static_assert(sizeof(shared::ThinSelectPush) == 112, "ThinSelectPush must match std430 in shared/thin.h");
+static_assert(sizeof(shared::ThinTrianglePush) == 112, "ThinTrianglePush must match std430 in shared/thin.h");
+static_assert(sizeof(shared::ThinSelectPush) == 128, "ThinSelectPush must match std430 in shared/thin.h");
 
 const ThinTriangleSettings& checked(const gpu::Context& context, const ThinTriangleSettings& thin) {
   if (!context.physicalDevice().getFeatures().geometryShader) {
@@ -53,14 +53,21 @@ constexpr gpu::Binding kSelectBindings[] = {{0, vk::DescriptorType::eStorageBuff
 constexpr vk::DeviceSize kDrawStride = THIN_DRAW_WORDS * sizeof(std::uint32_t);
 constexpr std::uint32_t kDrawCommandBytes = 5 * sizeof(std::uint32_t);  // VkDrawIndexedIndirectCommand
 
-shared::ThinTrianglePush pushFor(const shared::ShadowMapInfo& info, std::uint32_t face, const ThinTriangleSettings& thin,
-                                 bool cutouts = false) {
+shared::ThinTrianglePush pushFor(const shared::ShadowMapInfo& info, std::uint32_t face, const ThinTriangleSettings& thin) {
   return {.viewProj = info.viewProj[face],
           .resolution = float(info.resolution),
           .maxWidthTexels = thin.maxWidthTexels,
           .minAspect = thin.minAspect,
-          .texelWorld = info.texelWorld,
-          .cutouts = cutouts ? 1u : 0u};
+          .texelWorld = info.texelWorld};
+}
+
+// The push constants of a cut-out mesh's draw.
+shared::ThinTrianglePush cutoutPush(shared::ThinTrianglePush push, const SceneGeometry& geometry, const CutoutDraw& draw) {
+  push.cutouts = 1u;
+  push.firstCutout = draw.firstTriangle;
+  push.cutoutTriangles = geometry.cutoutTrianglesAddress();
+  push.cutoutTexels = geometry.cutoutTexelsAddress();
+  return push;
 }
 
 }  // namespace
@@ -172,10 +179,10 @@ void ThinTrianglePass::record(const vk::raii::CommandBuffer& cmd, const SceneGeo
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_LIST * 4, 1, kDrawCommandBytes);
     cmd.bindIndexBuffer(geometry.indices().handle(), 0, vk::IndexType::eUint32);
     cmd.drawIndexedIndirect(draws_.handle(), face * kDrawStride + THIN_DRAW_ALL * 4, 1, kDrawCommandBytes);
-    if (geometry.hasCutouts()) {  // every cut-out triangle, thin or not
-      pipeline_.pushConstants(cmd, pushFor(info, face, thin_, true));
-      geometry.drawCutouts(cmd, [](const CutoutDraw&) {});
-    }
+    // every cut-out triangle, thin or not (thin_cutout.glsl)
+    geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
+      pipeline_.pushConstants(cmd, cutoutPush(pushFor(info, face, thin_), geometry, draw));
+    });
   }, texelCopy(texels_, depth_));
 }
 

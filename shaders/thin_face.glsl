@@ -5,15 +5,17 @@
 vec2 texel(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * push.resolution; }
 
 // Corners c0..c2 in the face's clip space, w0..w2 in world space. True when the triangle is thin
-// and its texel-space bounds reach the face; then q0..q3 is the near-clipped polygon (a triangle
-// repeats its last corner) and `behind` counts the corners clipped off.
+// (or of a cut-out mesh) and its texel-space bounds reach the face; then q0..q3 is the near-clipped
+// polygon (a triangle repeats its last corner), `behind` counts the corners clipped off and `thin`
+// says whether it is thin.
 bool thinOnFace(vec4 c0, vec4 c1, vec4 c2, vec3 w0, vec3 w1, vec3 w2, out vec4 q0, out vec4 q1, out vec4 q2,
-                out vec4 q3, out uint behind) {
+                out vec4 q3, out uint behind, out bool thin) {
   bool b0 = c0.z < 0.0;
   bool b1 = c1.z < 0.0;
   bool b2 = c2.z < 0.0;
   behind = uint(b0) + uint(b1) + uint(b2);
   q0 = c0; q1 = c1; q2 = c2; q3 = c2;
+  thin = false;
   if (behind == 3u) return false;
   if (behind > 0u) {
     // Rotate so that `a` is the odd corner: the one behind, or the one in front.
@@ -34,7 +36,6 @@ bool thinOnFace(vec4 c0, vec4 c1, vec4 c2, vec3 w0, vec3 w1, vec3 w2, out vec4 q
 
   float res = push.resolution;
   vec2 p0 = texel(q0), p1 = texel(q1), p2 = texel(q2), p3 = texel(q3);
-  bool thin;
   if (behind == 0u) {
     thin = thinTriangle(p0, p1, p2, push.maxWidthTexels, push.minAspect);
   } else {
@@ -46,7 +47,7 @@ bool thinOnFace(vec4 c0, vec4 c1, vec4 c2, vec3 w0, vec3 w1, vec3 w2, out vec4 q
     thin = thinMeasure(longest, length(cross(e0, e2)) / (size * size), push.maxWidthTexels, push.minAspect);
   }
   // A cut-out triangle may hold holes finer than a texel anywhere inside it (its texture's), which
-  // the map cannot show: the mask keeps all of it, as it keeps a thin triangle.
+  // the map cannot show: the mask keeps it wherever its alpha changes (thin_cutout.glsl).
   if (!thin && push.cutouts == 0u) return false;
   vec2 lo = min(min(p0, p1), min(p2, p3));
   vec2 hi = max(max(p0, p1), max(p2, p3));

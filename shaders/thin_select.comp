@@ -23,8 +23,9 @@ void main() {
   vec3 w0 = corner(i0), w1 = corner(i1), w2 = corner(i2);
   vec4 q0, q1, q2, q3;
   uint behind;
+  bool thin;
   if (!thinOnFace(push.viewProj * vec4(w0, 1.0), push.viewProj * vec4(w1, 1.0), push.viewProj * vec4(w2, 1.0), w0, w1,
-                  w2, q0, q1, q2, q3, behind)) {
+                  w2, q0, q1, q2, q3, behind, thin)) {
     return;
   }
   uint base = select.face * THIN_DRAW_WORDS;

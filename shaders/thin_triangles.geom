@@ -1,5 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/thin.h"
 // Thin-triangle pass (Lauterbach et al. 2009, section 3.1): keeps only the triangles that are thin
 // in texel space and rasterizes them conservatively (Hasselgren et al. 2005), so every texel whose
@@ -36,9 +38,12 @@ layout(location = 0) flat out vec4 outEdges[THIN_EDGES];
 layout(location = THIN_EDGES) flat out vec4 outBox;
 layout(location = THIN_EDGES + 1) flat out vec4 outDepth;      // x: nearest corner, y: farthest, zw: gradient
 layout(location = THIN_EDGES + 2) flat out vec3 outDepthAt;   // xy: a corner's texel coordinates, z: its depth
+layout(location = THIN_EDGES + 3) flat out uint outCutout;    // 1 + the CutoutTriangle whose alpha decides, or 0
+layout(location = THIN_EDGES + 4) flat out vec3 outUvMap[3];  // thin_cutout.glsl's map, by columns
 layout(push_constant) uniform PushBlock { ThinTrianglePush push; };
 
 #include "thin_face.glsl"
+#include "thin_cutout.glsl"
 
 // Slab of edge a-b holding the corners q0..q3, as bounds on dot(normal, texel coordinates).
 vec4 edgeSlab(vec4 a, vec4 b, vec4 q0, vec4 q1, vec4 q2, vec4 q3) {
@@ -57,8 +62,15 @@ vec4 edgeSlab(vec4 a, vec4 b, vec4 q0, vec4 q1, vec4 q2, vec4 q3) {
   return vec4(normal, lo - support - constant, hi + support - constant);
 }
 
+uint cutout = 0u;
+mat3 uvMap = mat3(0.0);
+
 void emit(vec2 corner, vec4 e0, vec4 e1, vec4 e2, vec4 e3, vec4 box, vec4 depth, vec3 depthAt) {
   gl_Position = vec4(corner / push.resolution * 2.0 - 1.0, depth.x, 1.0);
+  outCutout = cutout;
+  outUvMap[0] = uvMap[0];
+  outUvMap[1] = uvMap[1];
+  outUvMap[2] = uvMap[2];
   outEdges[0] = e0;
   outEdges[1] = e1;
   outEdges[2] = e2;
@@ -72,9 +84,17 @@ void emit(vec2 corner, vec4 e0, vec4 e1, vec4 e2, vec4 e3, vec4 box, vec4 depth,
 void main() {
   vec4 q0, q1, q2, q3;
   uint behind;
+  bool thin;
   if (!thinOnFace(gl_in[0].gl_Position, gl_in[1].gl_Position, gl_in[2].gl_Position, inWorld[0], inWorld[1], inWorld[2], q0,
-                  q1, q2, q3, behind)) {
+                  q1, q2, q3, behind, thin)) {
     return;
+  }
+  // A cut-out triangle that is not thin: its alpha decides per texel (a near-clipped one is kept whole).
+  if (push.cutouts != 0u && !thin && behind == 0u) {
+    uint index = push.firstCutout + uint(gl_PrimitiveIDIn);
+    if (thinUvMap(gl_in[0].gl_Position, gl_in[1].gl_Position, gl_in[2].gl_Position, thinCutoutTriangle(index), uvMap)) {
+      cutout = index + 1u;
+    }
   }
   float res = push.resolution;
   vec2 p0 = texel(q0), p1 = texel(q1), p2 = texel(q2), p3 = texel(q3);

@@ -3,6 +3,7 @@
 // solid mesh.
 #include <gtest/gtest.h>
 
+#include "core/cutouts.h"
 #include "core/image_io.h"
 #include "core/texture.h"
 #include "gltf_writer.h"
@@ -110,6 +111,48 @@ TEST(CutoutLoading, ObjAlphaMapCutsOutItsMaterial) {
   EXPECT_EQ(s.meshes[0].uvs[0], glm::vec2(0.0f, 1.0f)) << "OBJ's v points up, the texture's rows down";
   writeFile(dir.file("b.obj"), quad + "usemtl gone\nf 1/1 2/2 3/3 4/4\n");
   expectInputError([&] { penumbra::loadScene(dir.file("b.obj")); }, {"absent.png", "could not be read"});
+}
+
+// The alpha ranges the thin-triangle pass reads (shared/alpha.h): every cell of every level holds
+// the least and greatest alpha of the texels it covers, on a texture of odd sides.
+TEST(CutoutData, AlphaRangesBoundTheirTexels) {
+  penumbra::Scene scene;
+  penumbra::Texture& t = scene.textures.emplace_back();
+  t.width = 13, t.height = 6;
+  for (std::uint32_t i = 0; i < t.width * t.height; ++i) t.rgba.insert(t.rgba.end(), {0, 0, 0, std::uint8_t(i * 37 % 251)});
+  penumbra::Mesh& mesh = scene.meshes.emplace_back();
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.indices = {0, 1, 2};
+  mesh.cutout = penumbra::Cutout{.texture = 0};
+  const penumbra::CutoutData data = penumbra::cutoutData(scene);
+  ASSERT_EQ(data.triangles.size(), 1u);
+  const auto alpha = [&](std::uint32_t x, std::uint32_t y) {
+    const std::uint32_t texel = data.firstTexel[0] + y * t.width + x;
+    return penumbra::shared::cutoutAlpha(data.texels.at(texel / 4), texel);
+  };
+  for (std::uint32_t y = 0; y < t.height; ++y) {
+    for (std::uint32_t x = 0; x < t.width; ++x) ASSERT_EQ(alpha(x, y), t.rgba[(y * t.width + x) * 4 + 3]);
+  }
+  std::uint32_t at = data.triangles[0].ranges, level = 1;
+  ASSERT_EQ(at, data.firstRange[0]);
+  for (;; ++level) {
+    const std::uint32_t w = penumbra::shared::cutoutLevelSize(t.width, level), h = penumbra::shared::cutoutLevelSize(t.height, level);
+    for (std::uint32_t cy = 0; cy < h; ++cy) {
+      for (std::uint32_t cx = 0; cx < w; ++cx, ++at) {
+        glm::uvec2 want(255, 0);
+        for (std::uint32_t y = cy << level; y < std::min(t.height, (cy + 1) << level); ++y) {
+          for (std::uint32_t x = cx << level; x < std::min(t.width, (cx + 1) << level); ++x) {
+            want = glm::uvec2(std::min(want.x, alpha(x, y)), std::max(want.y, alpha(x, y)));
+          }
+        }
+        ASSERT_EQ(penumbra::shared::cutoutRange(data.texels.at(at / 2), at), want) << "level " << level << " cell " << cx << "," << cy;
+      }
+    }
+    if (w == 1 && h == 1) break;
+  }
+  EXPECT_EQ(level, 4u);  // 13 -> 7 -> 4 -> 2 -> 1
+  EXPECT_LE(at, 2 * data.texels.size());
 }
 
 }  // namespace

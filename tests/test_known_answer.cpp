@@ -173,6 +173,39 @@ TEST(KnownAnswer, SrtTracesCutoutHolesFinerThanATexel) {
   expectValidationSilent();
 }
 
+// The other side of the thin mask's cut-outs: where a cut-out triangle's alpha is the same over a
+// texel's block (the inside of a checker cell many texels wide), the map's answer holds and srt
+// leaves it alone (thin_cutout.glsl); it traces near the cells' edges only.
+TEST(KnownAnswer, SrtLeavesCutoutCellsWiderThanTexelsToTheMap) {
+  RenderSettings settings = smallSettings(256, 2048);
+  settings.tracer = "bvh";
+  SceneRun run("builtin:checker", settings);
+  const Bounds bounds = run.scene.bounds();
+  const float texel = raster::makeShadowMapInfo(toGpuLight(run.light, bounds), bounds, settings.shadowMap).texelWorld;
+  const double cell = 2.0 / kCheckerCells;
+  EXPECT_GT(cell, 20.0 * texel) << "the cells must be many texels wide";
+  const Frame srt = run.render("srt");
+  const std::vector<glm::vec4> positions = run.renderer->frameContext().gbuffer().positions();
+  EXPECT_LE(againstAnalytic(srt, positions, kCheckerCells).maxEdgeDistance, 1e-3);
+  // Ground pixels under the occluder farther from every cell's edge than the mask's reach (the
+  // 3x3 block, the normal offset and a texel's footprint on the ground, with room to spare).
+  const double reach = 4.0 * texel / -kLightDir.y;
+  int inside = 0, traced = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const glm::vec3 p(positions[i]);
+    if (!srt.covered[i] || p.y > 0.5f) continue;
+    const glm::vec3 q = p - kLightDir * ((1.0f - p.y) / -kLightDir.y);
+    if (std::abs(q.x) >= 1.0f || std::abs(q.z) >= 1.0f || distanceToCheckerEdge(q.x, q.z, kCheckerCells) < reach) continue;
+    ++inside;
+    traced += srt.pip[i] != 0;
+  }
+  std::printf("checker %ux%u, 2048^2 map (texel %.4f, cell %.3f): %d of %d pixels inside the cells traced\n", kCheckerCells,
+              kCheckerCells, texel, cell, traced, inside);
+  EXPECT_GT(inside, 300);
+  EXPECT_LE(traced, inside / 100) << "srt traces the cells' insides";
+  expectValidationSilent();
+}
+
 TEST(KnownAnswer, ShadowMapWithinATexelOfAnalyticShadow) {
   for (std::uint32_t res : {512u, 2048u}) {
     RenderSettings settings = smallSettings(256, res);

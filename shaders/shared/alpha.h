@@ -29,7 +29,8 @@ PN_FN bool cutoutSolid(uint alpha8, float factor, float cutoff) {
 
 // A triangle of a cut-out mesh as the tracers test it (core/cutouts.h), std430 48 bytes;
 // BvhTriangle.cutout is 1 + its index. Its texture's alpha lies in a buffer of words, four texels
-// to a word (the lowest byte first), from texel `texels` on.
+// to a word (the lowest byte first), from texel `texels` on; its alpha ranges (below) from half
+// word `ranges` on.
 struct CutoutTriangle {
   vec2 uv0;
   vec2 uv1;
@@ -39,12 +40,28 @@ struct CutoutTriangle {
   uint height;
   float factor;
   float cutoff;
-  uint pad0;
+  uint ranges;
 };
 
 // The alpha of texel `texel` (its index among all the words' texels) from its word, texel / 4.
 PN_FN uint cutoutAlpha(uint word, uint texel) {
   return (word >> (8u * (texel & 3u))) & 0xffu;
+}
+
+// Alpha ranges: a pyramid over each texture for the thin-triangle pass (thin_cutout.glsl), which
+// asks whether a texture is all solid or all cut away over a box of texels. Level l >= 1 has
+// cutoutLevelSize(width, l) x cutoutLevelSize(height, l) cells, row-major, cell (x, y) covering
+// texels [x 2^l, (x + 1) 2^l) x [y 2^l, (y + 1) 2^l) of the image (clipped to it); levels follow one
+// another up to the first of one cell; level 0 is the alpha itself. A cell is a half word, two to a
+// word (the lower half first): its least alpha in the low byte, its greatest in the high byte.
+PN_FN uint cutoutLevelSize(uint size, uint level) {
+  return (size + (1u << level) - 1u) >> level;
+}
+
+// The (least, greatest) alpha of half word `cellAt` from its word, cellAt / 2.
+PN_FN uvec2 cutoutRange(uint word, uint cellAt) {
+  uint cell = (word >> (16u * (cellAt & 1u))) & 0xffffu;
+  return uvec2(cell & 0xffu, cell >> 8u);
 }
 
 PN_END

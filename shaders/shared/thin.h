@@ -18,14 +18,19 @@ PN_BEGIN
 // Edges of the near-clipped triangle (at most a quad) the fragment shader tests against.
 #define THIN_EDGES 4
 
-struct ThinTrianglePush {  // 96 bytes
+struct ThinTrianglePush {  // 112 bytes
   mat4 viewProj;           // the face's light view-projection (ShadowMapInfo::viewProj[face])
   float resolution;        // texels per side of the face
   float maxWidthTexels;    // thin: the smallest texel-space altitude is below this ...
   float minAspect;         // ... and longest edge / smallest altitude is at least this
   float texelWorld;        // ShadowMapInfo::texelWorld: world size of a texel at clip w = 1
-  uint cutouts;            // 1: the draw is of cut-out meshes, each triangle kept whatever its shape
-  uint pad0, pad1, pad2;
+  // 1: the draw is of a cut-out mesh, each triangle kept whatever its shape wherever its alpha
+  // changes (thin_cutout.glsl); its first triangle is CutoutTriangle `firstCutout` at `cutoutTriangles`
+  uint cutouts;
+  uint firstCutout;
+  uvec2 cutoutTriangles;   // (low, high) addresses of the CutoutTriangles ...
+  uvec2 cutoutTexels;      // ... and of the alpha words (shared/alpha.h)
+  uint pad0, pad1;
 };
 
 // Selection (thin_select.comp): per light face, the thin triangles' indices are appended to a list
@@ -36,7 +41,7 @@ struct ThinTrianglePush {  // 96 bytes
 #define THIN_DRAW_ALL 5     //   VkDrawIndexedIndirectCommand over the scene (indexCount 0 unless overflowed)
 #define THIN_DRAW_COUNT 10  //   thin triangles found (may exceed the capacity)
 
-struct ThinSelectPush {  // 112 bytes
+struct ThinSelectPush {  // 128 bytes
   ThinTrianglePush thin;
   uint face;             // draws[face * THIN_DRAW_WORDS ...], list[face * capacity * 3 ...]
   uint capacity;         // triangles per face in the list
