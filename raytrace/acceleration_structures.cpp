@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/cutouts.h"
 #include "core/units.h"
+#include "shared/ray_query.h"
 
 namespace penumbra {
 namespace {
@@ -55,10 +57,10 @@ void writeIndices(const Mesh& mesh, const std::vector<std::uint32_t>& order, std
   }
 }
 
-// One mesh's triangles as build input: float3 positions, uint32 indices, opaque (shadow rays
-// take the first hit, and nothing here needs an any-hit decision).
+// One mesh's triangles as build input: float3 positions, uint32 indices; opaque (the driver commits
+// its hits) unless the mesh is cut out (its candidates go to the shader's proceed loop).
 vk::AccelerationStructureGeometryKHR triangleGeometry(vk::DeviceAddress vertices, vk::DeviceAddress indices,
-                                                      std::size_t vertexCount) {
+                                                      std::size_t vertexCount, bool opaque) {
   return {.geometryType = vk::GeometryTypeKHR::eTriangles,
           .geometry = {.triangles = {.vertexFormat = vk::Format::eR32G32B32Sfloat,
                                      .vertexData = {.deviceAddress = vertices},
@@ -66,7 +68,7 @@ vk::AccelerationStructureGeometryKHR triangleGeometry(vk::DeviceAddress vertices
                                      .maxVertex = std::uint32_t(std::max<std::size_t>(vertexCount, 1) - 1),
                                      .indexType = vk::IndexType::eUint32,
                                      .indexData = {.deviceAddress = indices}}},
-          .flags = vk::GeometryFlagBitsKHR::eOpaque};
+          .flags = opaque ? vk::GeometryFlagBitsKHR::eOpaque : vk::GeometryFlagsKHR{}};
 }
 
 // Orders one build's writes (its structure and the shared scratch) before the next build.
@@ -93,6 +95,7 @@ std::string defaultTracer(const gpu::Context& context) {
 SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& context, const Scene& scene,
                                                          const BvhBuildSettings& settings, MeshSet set)
     : context_((context.requireRayQuery("ray queries"), context)),
+      cutouts_(context, scene),
       policy_(scene, settings),
       instanceTargets_(scene.meshes.size(), 0),
       order_(scene.meshes.size()) {
@@ -100,9 +103,12 @@ SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& con
   const auto start = std::chrono::steady_clock::now();
   buildStatic(scene, set);
   buildMoving(scene, set);
-  // Instances in mesh order, skipping meshes without structures; then the ids of their triangles.
+  // Instances in mesh order, skipping meshes without structures; then the ids of their triangles
+  // after the cut-outs' addresses and two words per instance (shared/ray_query.h).
   std::vector<vk::AccelerationStructureInstanceKHR> instances;
-  std::vector<std::uint32_t> first, ids;
+  std::vector<std::uint32_t> head, ids;
+  for (glm::uvec2 a : {cutouts_.trianglesAddress(), cutouts_.texelsAddress()}) head.insert(head.end(), {a.x, a.y});
+  const std::vector<std::uint32_t> firstCutout = cutoutIndices(scene);
   std::uint32_t id = 0;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     if (instanceTargets_[m]) {
@@ -110,26 +116,26 @@ SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& con
       const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
       std::memcpy(&instance.transform, identity, sizeof(identity));
       instance.mask = 0xff;
-      instance.flags = VkGeometryInstanceFlagsKHR(vk::GeometryInstanceFlagBitsKHR::eTriangleFacingCullDisable |
-                                                  vk::GeometryInstanceFlagBitsKHR::eForceOpaque);
+      instance.flags = VkGeometryInstanceFlagsKHR(vk::GeometryInstanceFlagBitsKHR::eTriangleFacingCullDisable);
+      if (!scene.meshes[m].cutout) instance.flags |= VkGeometryInstanceFlagsKHR(vk::GeometryInstanceFlagBitsKHR::eForceOpaque);
       instance.accelerationStructureReference = instanceTargets_[m];
       instances.push_back(instance);
-      first.push_back(std::uint32_t(ids.size()));
+      head.insert(head.end(), {std::uint32_t(ids.size()), firstCutout[m] ? firstCutout[m] - id : 0u});
       for (std::uint32_t t : order_[m]) ids.push_back(id + t);
     }
     id += triangles(scene.meshes[m]);
   }
-  for (std::uint32_t& offset : first) offset += std::uint32_t(first.size());
-  first.insert(first.end(), ids.begin(), ids.end());
+  for (std::size_t i = RQ_IDS_INSTANCES; i < head.size(); i += 2) head[i] += std::uint32_t(head.size());
+  head.insert(head.end(), ids.begin(), ids.end());
   order_ = {};
-  triangleIds_.emplace(context_, first.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
+  triangleIds_.emplace(context_, head.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
                        "rq triangle ids");
-  triangleIds_->upload(std::span<const std::uint32_t>(first));
+  triangleIds_->upload(std::span<const std::uint32_t>(head));
   instances_.emplace(context_, instances.size() * sizeof(vk::AccelerationStructureInstanceKHR), kInput, "rq instances");
   instances_->upload(std::span<const vk::AccelerationStructureInstanceKHR>(instances));
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { buildTop(cmd, false); });
   if (moving_.empty()) scratch_.reset();  // updates need it again; static scenes never do
-  stats_.bytes += instances_->size() + topStorage_->size() + triangleIds_->size();
+  stats_.bytes += instances_->size() + topStorage_->size() + triangleIds_->size() + cutouts_.bytes();
   stats_.buildMs = msSince(start);
 }
 
@@ -173,7 +179,8 @@ void SceneAccelerationStructures::buildStatic(const Scene& scene, MeshSet set) {
     order_[m] = spatialOrder(mesh);
     writeIndices(mesh, order_[m], static_cast<std::uint32_t*>(indices.data()) + i);
     geometries.push_back(triangleGeometry(vertices.address() + v * sizeof(glm::vec3),
-                                          indices.address() + i * sizeof(std::uint32_t), mesh.positions.size()));
+                                          indices.address() + i * sizeof(std::uint32_t), mesh.positions.size(),
+                                          !mesh.cutout));
     v += mesh.positions.size();
     i += mesh.indices.size();
     infos.push_back({.type = vk::AccelerationStructureTypeKHR::eBottomLevel,
@@ -243,7 +250,7 @@ void SceneAccelerationStructures::buildStatic(const Scene& scene, MeshSet set) {
 
 void SceneAccelerationStructures::recordMoving(const vk::raii::CommandBuffer& cmd, Moving& m, bool update) {
   const vk::AccelerationStructureGeometryKHR geometry =
-      triangleGeometry(m.vertices.address(), m.indices.address(), m.vertices.size() / sizeof(glm::vec3));
+      triangleGeometry(m.vertices.address(), m.indices.address(), m.vertices.size() / sizeof(glm::vec3), m.opaque);
   const vk::AccelerationStructureBuildGeometryInfoKHR info{
       .type = vk::AccelerationStructureTypeKHR::eBottomLevel,
       .flags = BuildFlags::ePreferFastTrace | BuildFlags::eAllowUpdate,
@@ -263,7 +270,7 @@ void SceneAccelerationStructures::buildMoving(const Scene& scene, MeshSet set) {
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     if (!mesh.dynamic || !inMeshSet(mesh, set) || triangles(mesh) == 0) continue;
-    const vk::AccelerationStructureGeometryKHR geometry = triangleGeometry(0, 0, mesh.positions.size());
+    const vk::AccelerationStructureGeometryKHR geometry = triangleGeometry(0, 0, mesh.positions.size(), !mesh.cutout);
     const vk::AccelerationStructureBuildGeometryInfoKHR info{.type = vk::AccelerationStructureTypeKHR::eBottomLevel,
                                                              .flags = BuildFlags::ePreferFastTrace | BuildFlags::eAllowUpdate,
                                                              .geometryCount = 1,
@@ -271,7 +278,7 @@ void SceneAccelerationStructures::buildMoving(const Scene& scene, MeshSet set) {
     const auto sizes = buildSizes(context_, info, triangles(mesh));
     scratchBytes = std::max({scratchBytes, sizes.buildScratchSize, sizes.updateScratchSize});
     Moving& moving = moving_.emplace_back(Moving{
-        m, triangles(mesh), gpu::Buffer(context_, mesh.positions.size() * sizeof(glm::vec3), kInput, "rq moving vertices"),
+        m, triangles(mesh), !mesh.cutout, gpu::Buffer(context_, mesh.positions.size() * sizeof(glm::vec3), kInput, "rq moving vertices"),
         gpu::Buffer(context_, mesh.indices.size() * sizeof(std::uint32_t), kInput, "rq moving indices"),
         gpu::Buffer(context_, sizes.accelerationStructureSize, kStorage, "rq moving structure")});
     moving.structure = vk::raii::AccelerationStructureKHR(

@@ -1,5 +1,6 @@
 // Driver-built acceleration structures over a scene (VK_KHR_acceleration_structure), for the
-// ray-query tracer: one compacted bottom-level structure per static mesh, packed in one buffer;
+// ray-query tracer: one compacted bottom-level structure per static mesh, packed in one buffer
+// (opaque geometry, except cut-out meshes, whose candidates the shaders test: rq_common.glsl);
 // one per moving mesh, built to allow updates; and a top-level structure over all of them
 // (identity instances: scene positions are world space). Each mesh's triangles go to the driver in
 // Morton order of their centroids: Mesa 25.0's lavapipe builds trees whose quality follows the input
@@ -19,6 +20,7 @@
 #include "gpu/resources.h"
 #include "raytrace/bvh_builder.h"
 #include "raytrace/bvh_refit.h"
+#include "raytrace/cutout_buffers.h"
 
 namespace penumbra {
 
@@ -47,8 +49,9 @@ class SceneAccelerationStructures {
 
   vk::AccelerationStructureKHR top() const { return *top_; }
   const AccelerationStats& stats() const { return stats_; }
-  // Scene-order triangle ids (BvhTriangle::id) of the build order: one uint per instance, where its
-  // ids start in this buffer, then the ids. A hit's id = ids[ids[instance] + primitive index].
+  // Scene-order triangle ids (BvhTriangle::id) of the build order, after the cut-outs' addresses
+  // and two uints per instance (shared/ray_query.h): a hit's id =
+  // ids[ids[RQ_IDS_INSTANCES + 2 instance] + primitive index].
   const gpu::Buffer& triangleIds() const { return *triangleIds_; }
 
   // The moving meshes were posed anew: uploads their vertices, refits their structures (or
@@ -63,6 +66,7 @@ class SceneAccelerationStructures {
   struct Moving {  // one moving mesh's structure and the inputs it is refit from
     std::size_t mesh;
     std::uint32_t triangles;
+    bool opaque;  // not a cut-out
     gpu::Buffer vertices, indices, storage;
     vk::raii::AccelerationStructureKHR structure{nullptr};
   };
@@ -73,6 +77,7 @@ class SceneAccelerationStructures {
   vk::DeviceAddress scratch(vk::DeviceSize bytes);  // aligned address in a scratch buffer of at least `bytes`
 
   const gpu::Context& context_;
+  CutoutBuffers cutouts_;  // cut-out meshes are non-opaque geometry, tested in the shaders' candidate loop
   AccelerationStats stats_;
   DynamicBvh policy_;
   std::vector<vk::DeviceAddress> instanceTargets_;  // per mesh: its structure's device address (0: no triangles)

@@ -14,8 +14,8 @@ CutoutBuffers::CutoutBuffers(const gpu::Context& context, const CutoutData& data
                                   "cutout texels")) {}
 
 shared::BvhAddresses CutoutBuffers::with(shared::BvhAddresses bvh) const {
-  bvh.cutouts = gpu::addressHalves(triangles_);
-  bvh.cutoutTexels = gpu::addressHalves(texels_);
+  bvh.cutouts = trianglesAddress();
+  bvh.cutoutTexels = texelsAddress();
   return bvh;
 }
 

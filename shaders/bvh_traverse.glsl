@@ -14,25 +14,20 @@
 // reference.
 #ifndef PENUMBRA_BVH_TRAVERSE_GLSL
 #define PENUMBRA_BVH_TRAVERSE_GLSL
-#include "shared/alpha.h"
 #include "shared/bvh.h"
 #include "triangle_test.glsl"
 
 #ifdef BVH_ADDRESSES
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhTriangleArray { BvhTriangle v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhCutoutArray { CutoutTriangle v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer BvhTexelArray { uint v[]; };
 #define bvhNodes BvhNodeArray(BVH_ADDRESSES.nodes).v
 #define bvhTriangles BvhTriangleArray(BVH_ADDRESSES.triangles).v
+#include "cutout_test.glsl"
 
 // Whether a candidate hit at barycentrics `bary` on cut-out triangle `cutout` (BvhTriangle.cutout)
 // falls where its texture cuts it away (shared/alpha.h's rule, as the reference's filter).
 bool bvhCutAway(uint cutout, vec2 bary) {
-  CutoutTriangle c = BvhCutoutArray(BVH_ADDRESSES.cutouts).v[cutout - 1u];
-  uint texel = c.texels + cutoutTexel(cutoutUv(c.uv0, c.uv1, c.uv2, bary.x, bary.y), c.width, c.height);
-  uint alpha = cutoutAlpha(BvhTexelArray(BVH_ADDRESSES.cutoutTexels).v[texel >> 2], texel);
-  return !cutoutSolid(alpha, c.factor, c.cutoff);
+  return cutoutCutAway(BVH_ADDRESSES.cutouts, BVH_ADDRESSES.cutoutTexels, cutout - 1u, bary);
 }
 #else
 // Kernels that read the BVH through bindings (the line space's exact mode, the N-tree's indirect

@@ -3,14 +3,12 @@
 // constants `push` (CutoutDrawPush) and enables GL_EXT_buffer_reference and _uvec2.
 #ifndef PENUMBRA_CUTOUT_DRAW_GLSL
 #define PENUMBRA_CUTOUT_DRAW_GLSL
-#include "shared/alpha.h"
-
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer CutoutTexels { uint v[]; };
+#include "cutout_test.glsl"
 
 // Whether the mesh's texture cuts the surface away at `uv`.
 bool cutAway(vec2 uv) {
   uint texel = push.first + cutoutTexel(uv, push.width, push.height);
-  return !cutoutSolid(cutoutAlpha(CutoutTexels(push.texels).v[texel >> 2], texel), push.factor, push.cutoff);
+  return !cutoutSolid(cutoutAlpha(CutoutWordArray(push.texels).v[texel >> 2], texel), push.factor, push.cutoff);
 }
 
 #endif  // PENUMBRA_CUTOUT_DRAW_GLSL

@@ -5,6 +5,8 @@
 #extension GL_EXT_ray_query : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "rq_common.glsl"
 layout(local_size_x = BVH_GROUP_SIZE) in;
 layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };

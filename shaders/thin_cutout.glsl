@@ -9,12 +9,9 @@
 // declares `push` (ThinTrianglePush) and enables GL_EXT_buffer_reference and _uvec2.
 #ifndef PENUMBRA_THIN_CUTOUT_GLSL
 #define PENUMBRA_THIN_CUTOUT_GLSL
-#include "shared/alpha.h"
+#include "cutout_test.glsl"
 
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer ThinCutoutTriangles { CutoutTriangle v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer ThinCutoutWords { uint v[]; };
-
-CutoutTriangle thinCutoutTriangle(uint index) { return ThinCutoutTriangles(push.cutoutTriangles).v[index]; }
+CutoutTriangle thinCutoutTriangle(uint index) { return CutoutTriangleArray(push.cutoutTriangles).v[index]; }
 
 // The map m of triangle t (clip-space corners c0..c2, all in front of the light) from texel
 // coordinates to texture coordinates over its plane: m * (x, y, 1) = (u s, v s, s), where s is 1 over
@@ -34,13 +31,13 @@ bool thinUvMap(vec4 c0, vec4 c1, vec4 c2, CutoutTriangle t, out mat3 m) {
 uvec2 thinAlphaCell(CutoutTriangle t, uint level, uint x, uint y) {
   if (level == 0u) {
     uint texel = t.texels + y * t.width + x;
-    uint a = cutoutAlpha(ThinCutoutWords(push.cutoutTexels).v[texel >> 2], texel);
+    uint a = cutoutAlpha(CutoutWordArray(push.cutoutTexels).v[texel >> 2], texel);
     return uvec2(a);
   }
   uint cellAt = t.ranges;
   for (uint l = 1u; l < level; ++l) cellAt += cutoutLevelSize(t.width, l) * cutoutLevelSize(t.height, l);
   cellAt += y * cutoutLevelSize(t.width, level) + x;
-  return cutoutRange(ThinCutoutWords(push.cutoutTexels).v[cellAt >> 1], cellAt);
+  return cutoutRange(CutoutWordArray(push.cutoutTexels).v[cellAt >> 1], cellAt);
 }
 
 // The texels [lo, hi] along one side of `size` texels, wrapped: one interval (xy, with zw empty),

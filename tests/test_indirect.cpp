@@ -61,15 +61,18 @@ INSTANTIATE_TEST_SUITE_P(Tracers, IndirectTracers, ::testing::Values("bvh", "rq"
 // Closest and any hits on the GPU BVH pass through a cut-out's holes as Embree's filters do: ao and
 // one bounce under builtin:checker's occluder match the reference's (solid cells would darken the
 // holes' share of the ground).
-TEST(Indirect, BvhPassesThroughCutouts) {
+TEST(Indirect, BvhAndRayQueriesPassThroughCutouts) {
   SceneRun run("builtin:checker", indirectSettings(128, 16));
   for (const char* term : {"ao", "indirect"}) {
     const Frame ref = run.render(std::string(term) + "-embree");
-    const Frame traced = run.render(std::string(term) + "-bvh");
-    const ErrorMetrics e = compareVisibility(traced.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
-    std::printf("checker %s: bvh vs embree rmse %.6f, wrong %.4f%%\n", term, e.rmse, 100.0 * e.wrongPixelFraction);
-    EXPECT_LE(e.wrongPixelFraction, test::bound::kIndirectWrong) << term;
-    EXPECT_LE(e.rmse, test::bound::kIndirectRmse) << term;
+    for (const char* tracer : {"bvh", "rq"}) {
+      if (std::string(tracer) == "rq" && !test::validatedContext().rayQuery()) continue;
+      const Frame traced = run.render(std::string(term) + "-" + tracer);
+      const ErrorMetrics e = compareVisibility(traced.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);
+      std::printf("checker %s: %s vs embree rmse %.6f, wrong %.4f%%\n", term, tracer, e.rmse, 100.0 * e.wrongPixelFraction);
+      EXPECT_LE(e.wrongPixelFraction, test::bound::kIndirectWrong) << term << " " << tracer;
+      EXPECT_LE(e.rmse, test::bound::kIndirectRmse) << term << " " << tracer;
+    }
   }
   expectValidationSilent();
 }

@@ -101,6 +101,37 @@ TEST(RayQueryTracer, RaysHitWhatTheBvhAndEmbreeHit) {
   expectValidationSilent();
 }
 
+// Cut-out meshes are non-opaque geometry whose candidates the proceed loop tests (rq_common.glsl):
+// rays through the checker's holes pass, rays on its cells stop, as on the BVH, any and closest.
+TEST(RayQueryTracer, CutoutsLetRaysThroughWhereTheBvhDoes) {
+  REQUIRE_RAY_QUERIES();
+  const Scene scene = loadScene("builtin:checker"), solid = loadScene("builtin:square");
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uni(-1.2f, 1.2f);
+  std::vector<RayQuery> rays;
+  for (int i = 0; i < 20000; ++i) {  // down through the occluder's plane (y = 1) onto the ground
+    const glm::vec3 at(uni(rng), 1.0f, uni(rng));
+    const glm::vec3 dir = glm::normalize(glm::vec3(0.3f * uni(rng), -1.0f, 0.3f * uni(rng)));
+    rays.push_back({at - 2.0f * dir, 0.0f, dir, 10.0f});
+  }
+  RayQueryTracer rq(validatedContext(), scene), rqSolid(validatedContext(), solid);
+  BvhTracer bvh(validatedContext(), scene);
+  const auto rqAny = rq.traceRays(rays, true), rqClosest = rq.traceRays(rays, false);
+  const auto bvhClosest = bvh.traceRays(rays, false), solidClosest = rqSolid.traceRays(rays, false);
+  std::size_t throughHoles = 0, differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    // the occluder is mesh 1: triangles after the ground's
+    const std::uint32_t groundTriangles = std::uint32_t(scene.meshes[0].triangleCount());
+    const bool solidOccluder = solidClosest[i].triangle != BVH_NO_HIT && solidClosest[i].triangle >= groundTriangles;
+    throughHoles += solidOccluder && !(rqClosest[i].triangle != BVH_NO_HIT && rqClosest[i].triangle >= groundTriangles);
+    differ += rqClosest[i].triangle != bvhClosest[i].triangle || (rqAny[i].triangle != BVH_NO_HIT) != (bvhClosest[i].triangle != BVH_NO_HIT);
+  }
+  std::printf("checker: %zu rays, %zu through its holes; rq vs bvh differ %zu\n", rays.size(), throughHoles, differ);
+  EXPECT_GT(throughHoles, rays.size() / 5);
+  EXPECT_EQ(differ, 0u);
+  expectValidationSilent();
+}
+
 RenderSettings settingsFor(const std::string& tracer, float lightSize = 0.0f) {
   RenderSettings s = test::smallSettings(192, 2048);
   s.tracer = tracer;
@@ -119,7 +150,7 @@ std::size_t differingPixels(const Frame& a, const Frame& b) {
 // BVH's frames are within the reference bounds there (test_selective.cpp), so these are too.
 TEST(RayQueryTracer, FramesAreTheBvhFramesPixelForPixel) {
   REQUIRE_RAY_QUERIES();
-  for (const char* spec : {"builtin:courtyard", "builtin:wires", "builtin:room"}) {
+  for (const char* spec : {"builtin:courtyard", "builtin:wires", "builtin:room", "builtin:checker"}) {
     for (float lightSize : {0.0f, 0.05f}) {
       if (lightSize > 0.0f && std::string(spec) == "builtin:room") continue;  // a point light inside a room
       SCOPED_TRACE(std::string(spec) + " light size " + std::to_string(lightSize));

@@ -16,5 +16,13 @@ PN_BEGIN
 #endif
 #define RQ_BINDING_COUNTERS BVH_BINDING_COUNTERS
 
+// SceneAccelerationStructures::triangleIds(), in uints: the addresses of the scene's cut-outs (the
+// CutoutTriangles', then the alpha words', each as (low, high)), then two per instance (where its
+// triangles' ids start; for a cut-out mesh 1 + the CutoutTriangle of its triangle 0 minus that
+// triangle's id, wrapping), then each instance's scene-order triangle ids in build order.
+#define RQ_IDS_CUTOUTS 0
+#define RQ_IDS_CUTOUT_WORDS 2
+#define RQ_IDS_INSTANCES 4
+
 PN_END
 #endif
