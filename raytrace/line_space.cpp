@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/cutouts.h"
 #include "core/units.h"
 #include "raytrace/shaft_table.h"
 
@@ -54,13 +55,15 @@ std::vector<shared::BvhTriangle> lineSpaceTriangles(const Scene& scene, MeshSet 
   std::vector<shared::BvhTriangle> out;
   out.reserve(triangleCount(scene, set));
   std::uint32_t id = 0;  // scene index of the triangle
-  for (const Mesh& mesh : scene.meshes) {
+  const std::vector<std::uint32_t> firstCutout = cutoutIndices(scene);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
     const bool in = inMeshSet(mesh, set);
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t, ++id) {
       if (!in) continue;
       const glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]];
       const glm::vec3 c = mesh.positions[mesh.indices[3 * t + 2]];
-      out.push_back({a, id, b, 0u, c, 0u});
+      out.push_back({a, id, b, firstCutout[m] == 0 ? 0u : firstCutout[m] + std::uint32_t(t), c, 0u});
     }
   }
   return out;

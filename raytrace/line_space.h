@@ -17,7 +17,7 @@
 namespace penumbra {
 
 static_assert(sizeof(shared::LsNode) == 32, "LsNode must match std430");
-static_assert(sizeof(shared::LsPush) == 32, "LsPush must match std430");
+static_assert(sizeof(shared::LsPush) == 48, "LsPush must match std430");
 static_assert(sizeof(shared::LsLeaf) == 8, "LsLeaf must match std430");
 
 struct LineSpaceSettings {

@@ -115,10 +115,8 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
             ls.depth,
             shared::lsWordsPerNode(ls.n),
             exact_ ? 0.0f : settings.startOffsetCells * ls.nodes.front().size / std::pow(float(ls.n), float(ls.depth)),
-            dynamic_.empty() ? BVH_NO_TREE : kDynamicRoot,
-            0u,
-            0u,
-            0u},
+            dynamic_.empty() ? BVH_NO_TREE : kDynamicRoot},
+      cutouts_(context, scene),
       tree_(context, ls.tree.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer, "ls tree pool"),
       nodes_(context, ls.nodes.size() * sizeof(shared::LsNode), vk::BufferUsageFlagBits::eStorageBuffer, "ls node pool"),
       bits_(context, ls.bits.size() * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
@@ -142,6 +140,8 @@ LineSpaceTracer::LineSpaceTracer(const gpu::Context& context, const Scene& scene
     leafTriangles_ = exactPool(context, ls.leafTriangles, "ls leaf triangle lists");
     triangles_ = exactPool(context, ls.triangles, "ls triangles");
   }
+  push_.cutouts = cutouts_.trianglesAddress();
+  push_.cutoutTexels = cutouts_.texelsAddress();
   std::memset(counters_.data(), 0, kCounterBytes);
   std::memset(bvhNodes_.data(), 0, bvhNodes_.size());  // defined contents even where no ray looks
   std::memset(bvhTriangles_.data(), 0, bvhTriangles_.size());

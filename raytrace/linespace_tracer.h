@@ -18,6 +18,7 @@
 #include "gpu/pipeline.h"
 #include "raytrace/bvh_refit.h"
 #include "raytrace/acceleration_structures.h"
+#include "raytrace/cutout_buffers.h"
 #include "raytrace/line_space.h"
 #include "raytrace/shadow_tracer.h"
 
@@ -69,6 +70,7 @@ class LineSpaceTracer final : public ShadowTracer {
   bool exact_;
   DynamicBvh dynamic_;
   shared::LsPush push_{};
+  CutoutBuffers cutouts_;  // exact mode and the moving meshes' BVH test them (push_.cutouts)
   gpu::Buffer tree_;
   gpu::Buffer nodes_;
   gpu::Buffer bits_;

@@ -30,9 +30,14 @@ bool bvhCutAway(uint cutout, vec2 bary) {
   return cutoutCutAway(BVH_ADDRESSES.cutouts, BVH_ADDRESSES.cutoutTexels, cutout - 1u, bary);
 }
 #else
-// Kernels that read the BVH through bindings (the line space's exact mode, the N-tree's indirect
-// rays) do not test cut-outs yet: their triangles count as solid.
+#ifdef BVH_CUTOUTS
+// Kernels that read the BVH through bindings (the line space's moving meshes) give the cut-outs'
+// addresses as BVH_CUTOUTS: (triangles, alpha words).
+#include "cutout_test.glsl"
+bool bvhCutAway(uint cutout, vec2 bary) { return cutoutCutAway(BVH_CUTOUTS, cutout - 1u, bary); }
+#else
 bool bvhCutAway(uint cutout, vec2 bary) { return false; }
+#endif
 layout(std430, binding = BVH_BINDING_NODES) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
 layout(std430, binding = BVH_BINDING_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvhTriangles[]; };
 #endif

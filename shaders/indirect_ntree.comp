@@ -23,6 +23,7 @@ layout(push_constant) uniform Push {
 #define LS_EXACT
 #include "linespace_traverse.glsl"
 #define BVH_NO_COUNTERS
+#define BVH_CUTOUTS lsPush.cutouts, lsPush.cutoutTexels
 #include "bvh_traverse.glsl"
 
 bool indirectClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint triangle) {

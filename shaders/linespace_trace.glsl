@@ -23,6 +23,7 @@ bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
 }
 #else
 #define BVH_NO_COUNTERS
+#define BVH_CUTOUTS lsPush.cutouts, lsPush.cutoutTexels
 #include "bvh_traverse.glsl"
 bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
   return bvhTraverse(lsPush.dynamicRoot, origin, dir, 0.0f, tMax, true).triangle != BVH_NO_HIT;

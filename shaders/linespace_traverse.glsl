@@ -51,6 +51,7 @@ layout(std430, binding = LS_CANDIDATE_NODE_MAP_BINDING) readonly buffer LsCandid
 #endif
 #ifdef LS_EXACT
 #include "triangle_test.glsl"
+#include "cutout_test.glsl"
 layout(std430, binding = LS_BINDING_LEAVES) readonly buffer LsLeaves { LsLeaf lsLeaves[]; };
 layout(std430, binding = LS_BINDING_LEAF_TRIANGLES) readonly buffer LsLeafTriangles { uint lsLeafTriangles[]; };
 layout(std430, binding = LS_BINDING_TRIANGLES) readonly buffer LsTriangles { BvhTriangle lsTriangles[]; };
@@ -147,8 +148,10 @@ bool lsLeafHit(uint leaf, vec3 origin, vec3 dir, float tMin, inout float tMax, b
     lsTested0 = index;
     ++lsTriangleTests;
     BvhTriangle tri = lsTriangles[index];
-    float hit = bvhTriangleHit(tri, origin, dir, tMin, tMax);
+    vec2 bary;
+    float hit = bvhTriangleHit(tri, origin, dir, tMin, tMax, bary);
     if (hit < 0.0f) continue;
+    if (tri.cutout != 0u && cutoutCutAway(lsPush.cutouts, lsPush.cutoutTexels, tri.cutout - 1u, bary)) continue;
     t = hit;
     triangle = tri.id;
     found = true;

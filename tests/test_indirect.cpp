@@ -58,14 +58,14 @@ TEST_P(IndirectTracers, MatchTheEmbreeReference) {
 
 INSTANTIATE_TEST_SUITE_P(Tracers, IndirectTracers, ::testing::Values("bvh", "rq"));
 
-// Closest and any hits on the GPU BVH pass through a cut-out's holes as Embree's filters do: ao and
-// one bounce under builtin:checker's occluder match the reference's (solid cells would darken the
-// holes' share of the ground).
-TEST(Indirect, BvhAndRayQueriesPassThroughCutouts) {
+// Closest and any hits of the exact tracers (the GPU BVH, ray queries, the N-tree's exact line
+// space) pass through a cut-out's holes as Embree's filters do: ao and one bounce under
+// builtin:checker's occluder match the reference's (solid cells would darken the holes' share).
+TEST(Indirect, ExactTracersPassThroughCutouts) {
   SceneRun run("builtin:checker", indirectSettings(128, 16));
   for (const char* term : {"ao", "indirect"}) {
     const Frame ref = run.render(std::string(term) + "-embree");
-    for (const char* tracer : {"bvh", "rq"}) {
+    for (const char* tracer : {"bvh", "rq", "ntree"}) {
       if (std::string(tracer) == "rq" && !test::validatedContext().rayQuery()) continue;
       const Frame traced = run.render(std::string(term) + "-" + tracer);
       const ErrorMetrics e = compareVisibility(traced.visibility, ref.visibility, ref.covered, kWrongThresholdSoft);

@@ -313,6 +313,22 @@ TEST(LineSpaceTracer, ExactShadowsMatchTheReferenceAndKeepTheFenceBars) {
   expectValidationSilent();
 }
 
+// Cut-outs: exact mode tests a cut-out triangle's alpha at the hit as the BVH does, so the
+// checker's holes let light through and the frame is the reference's; binary mode's shafts hold
+// the triangle whole (a documented approximation) and shadow the holes.
+TEST(LineSpaceTracer, ExactShadowsPassThroughCutouts) {
+  test::SceneRun binaryRun("builtin:checker", lsSettings(192, 1));
+  test::SceneRun exactRun("builtin:checker", lsSettings(192, 1, exactLineSpace()));
+  const Frame r = exactRun.render("ref");
+  const ErrorMetrics exact = compareVisibility(exactRun.render("ls").visibility, r.visibility, r.covered, kWrongThresholdHard);
+  const ErrorMetrics binary = compareVisibility(binaryRun.render("ls").visibility, r.visibility, r.covered, kWrongThresholdHard);
+  std::printf("checker, ls (5,3) hard vs ref: exact wrong %.4f%%, binary wrong %.4f%%\n", 100.0 * exact.wrongPixelFraction,
+              100.0 * binary.wrongPixelFraction);
+  EXPECT_EQ(exact.wrongPixelFraction, 0.0);
+  EXPECT_GT(binary.wrongPixelFraction, 0.005) << "binary mode shadows the holes";
+  expectValidationSilent();
+}
+
 // The contact scene of StartNodeSkipLosesContactShadowsOnly: exact mode does not skip the start
 // node, so the box's contact shadow is back and the answer is the BVH's (frt, the same rays).
 TEST(LineSpaceTracer, ExactShadowsAgreeWithTheBvhAndKeepContactShadows) {

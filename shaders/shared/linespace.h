@@ -63,14 +63,17 @@ struct LsLeaf {
 #define LS_BINDING_BVH_NODES 8
 #define LS_BINDING_BVH_TRIANGLES 9
 
-// Push constants of linespace_trace.comp, 32 bytes.
+// Push constants of linespace_trace.comp, 48 bytes.
 struct LsPush {
   uint n;             // branching factor N
   uint depth;         // maximum depth d: leaves at level d, subdivided nodes at levels 0 .. d-1
   uint wordsPerNode;  // lsWordsPerNode(n)
   float startOffset;  // world units: occluders closer to the surface along the ray are ignored (binary mode only)
   uint dynamicRoot;   // root node of the dynamic BVH, or 0 (BVH_NO_TREE): no moving meshes
-  uint pad0, pad1, pad2;
+  uint pad0;
+  uvec2 cutouts;      // (low, high) addresses of the CutoutTriangles and the alpha words (core/cutouts.h),
+  uvec2 cutoutTexels; // which exact mode and the moving meshes' BVH test (binary mode: cut-outs are solid)
+  uint pad1, pad2;
 };
 
 PN_FN uint lsShaftCount(uint n) { return 15u * n * n * n * n; }
