@@ -13,6 +13,7 @@
 
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
+#include "core/cutouts.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "apps/declared_options.h"
@@ -48,12 +49,12 @@ void requireFinite(float value, const char* option) {
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating,
 // by what drives it.
 struct MemoryEstimate {
-  std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, lineSpace = 0;
-  std::uint64_t total() const { return lightMaps + perPixel + geometry + lineSpace; }
+  std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, cutouts = 0, lineSpace = 0;
+  std::uint64_t total() const { return lightMaps + perPixel + geometry + cutouts + lineSpace; }
   // The largest term, and what lowers it.
   std::string largest(const RenderSettings& s, std::uint64_t triangles) const {
     const auto mib = [](std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
-    const std::uint64_t top = std::max({lightMaps, perPixel, geometry, lineSpace});
+    const std::uint64_t top = std::max({lightMaps, perPixel, geometry, cutouts, lineSpace});
     if (top == perPixel) {
       return "the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame's buffers (" + mib(perPixel) +
              "): lower --res";
@@ -66,6 +67,7 @@ struct MemoryEstimate {
       return "the scene's " + std::to_string(triangles) + " triangles (" + mib(geometry) +
              "): load a smaller scene or level";
     }
+    if (top == cutouts) return "the cut-outs' textures (" + mib(cutouts) + "): use smaller images";
     return "the line space's pools (" + mib(lineSpace) + "): lower --linespace-budget";
   }
 };
@@ -316,7 +318,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.pip.explain = c.explainMisses;
   s.settings.simulateBandwidth = c.simulateBandwidth;
 
-  requireFits(estimateBytes(s.settings, s.scene.triangleCount(), lineSpace), s.settings, s.scene.triangleCount());
+  MemoryEstimate need = estimateBytes(s.settings, s.scene.triangleCount(), lineSpace);
+  // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h)
+  need.cutouts = 2 * cutoutDataBytes(s.scene);
+  requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     writeViewFile(c.saveView,
                   {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time}, origin);

@@ -73,6 +73,26 @@ CutoutData cutoutData(const Scene& scene) {
   return data;
 }
 
+std::uint64_t cutoutDataBytes(const Scene& scene) {
+  std::vector<char> counted(scene.textures.size(), 0);
+  std::uint64_t bytes = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    if (!mesh.cutout) continue;
+    bytes += mesh.triangleCount() * sizeof(shared::CutoutTriangle);
+    const std::size_t k = std::size_t(mesh.cutout->texture);
+    if (counted.at(k)) continue;
+    counted[k] = 1;
+    const Texture& t = scene.textures[k];
+    std::uint64_t cells = 0;  // the alpha ranges' (shared/alpha.h)
+    for (std::uint32_t level = 1, w = t.width, h = t.height; w > 1 || h > 1; ++level) {
+      w = shared::cutoutLevelSize(t.width, level), h = shared::cutoutLevelSize(t.height, level);
+      cells += std::uint64_t(w) * h;
+    }
+    bytes += (std::uint64_t(t.width) * t.height + 3) / 4 * 4 + (cells + 1) / 2 * 4;
+  }
+  return bytes;
+}
+
 std::vector<std::uint32_t> cutoutIndices(const Scene& scene) {
   std::vector<std::uint32_t> first(scene.meshes.size(), 0u);
   std::uint32_t next = 1;

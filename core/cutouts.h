@@ -23,6 +23,10 @@ struct CutoutData {
 };
 CutoutData cutoutData(const Scene& scene);
 
+// The bytes cutoutData(scene) will hold (at most 8 bytes over), counted without building it: the
+// memory estimate's term for each copy the GPU keeps.
+std::uint64_t cutoutDataBytes(const Scene& scene);
+
 // Per mesh, 1 + the CutoutTriangle index of its first triangle, or 0 for an opaque mesh.
 std::vector<std::uint32_t> cutoutIndices(const Scene& scene);
 

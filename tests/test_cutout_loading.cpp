@@ -153,6 +153,10 @@ TEST(CutoutData, AlphaRangesBoundTheirTexels) {
   }
   EXPECT_EQ(level, 4u);  // 13 -> 7 -> 4 -> 2 -> 1
   EXPECT_LE(at, 2 * data.texels.size());
+  // the memory estimate's count of the same
+  const std::uint64_t built = data.texels.size() * 4 + data.triangles.size() * sizeof(data.triangles[0]);
+  EXPECT_GE(penumbra::cutoutDataBytes(scene), built);
+  EXPECT_LE(penumbra::cutoutDataBytes(scene), built + 8);
 }
 
 }  // namespace
