@@ -93,6 +93,10 @@ std::uint64_t cutoutDataBytes(const Scene& scene) {
   return bytes;
 }
 
+bool hasCutouts(const Scene& scene) {
+  return std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& m) { return m.cutout.has_value(); });
+}
+
 std::vector<std::uint32_t> cutoutIndices(const Scene& scene) {
   std::vector<std::uint32_t> first(scene.meshes.size(), 0u);
   std::uint32_t next = 1;

@@ -27,6 +27,8 @@ CutoutData cutoutData(const Scene& scene);
 // memory estimate's term for each copy the GPU keeps.
 std::uint64_t cutoutDataBytes(const Scene& scene);
 
+bool hasCutouts(const Scene& scene);
+
 // Per mesh, 1 + the CutoutTriangle index of its first triangle, or 0 for an opaque mesh.
 std::vector<std::uint32_t> cutoutIndices(const Scene& scene);
 

@@ -9,6 +9,7 @@
 // heights are rasterized onto the map and each texel's receiver point lies on them.
 #include <string>
 
+#include "core/cutouts.h"
 #include "core/planar_receivers.h"
 #include "hybrid/frame_context.h"
 #include "hybrid/method.h"
@@ -104,6 +105,7 @@ class BitmaskMethod final : public Method {
     stats.notes.push_back("bitmask: receivers " + names + ", " + std::to_string(settings.resolution) + "^2 maps, " +
                           std::to_string(spp) + " samples; the rest of the frame answered like " + settings.fallback +
                           " (" + tracer.name() + ")");
+    if (hasCutouts(r.scene())) stats.notes.push_back("bitmask: its receivers' maps draw cut-outs solid (their textures are not read)");
   }
 
  private:

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "core/cutouts.h"
 #include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
@@ -65,6 +66,10 @@ class TracedMethod final : public Method {
       choose(r, tracer, stats);
     }
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, *lastJob_, classified_, stats);
+    if (tracer.name() == "ls" && r.settings().lineSpace.shadows == LineSpaceSettings::Shadows::Binary && hasCutouts(r.scene())) {
+      stats.notes.push_back("ls in binary mode shadows cut-outs solid: its shafts hold whole triangles "
+                            "(--ls-shadows exact tests their alpha)");
+    }
     if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
   }
 
