@@ -105,7 +105,9 @@ class BitmaskMethod final : public Method {
     stats.notes.push_back("bitmask: receivers " + names + ", " + std::to_string(settings.resolution) + "^2 maps, " +
                           std::to_string(spp) + " samples; the rest of the frame answered like " + settings.fallback +
                           " (" + tracer.name() + ")");
-    if (hasCutouts(r.scene())) stats.notes.push_back("bitmask: its receivers' maps draw cut-outs solid (their textures are not read)");
+    if (hasCutouts(r.scene())) {
+      stats.notes.push_back("bitmask: its receivers' maps draw cut-outs solid (their textures are not read)");
+    }
   }
 
  private:

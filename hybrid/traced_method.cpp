@@ -66,7 +66,8 @@ class TracedMethod final : public Method {
       choose(r, tracer, stats);
     }
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, *lastJob_, classified_, stats);
-    if (tracer.name() == "ls" && r.settings().lineSpace.shadows == LineSpaceSettings::Shadows::Binary && hasCutouts(r.scene())) {
+    const bool binaryLineSpace = r.settings().lineSpace.shadows == LineSpaceSettings::Shadows::Binary;
+    if (tracer.name() == "ls" && binaryLineSpace && hasCutouts(r.scene())) {
       stats.notes.push_back("ls in binary mode shadows cut-outs solid: its shafts hold whole triangles "
                             "(--ls-shadows exact tests their alpha)");
     }

@@ -116,8 +116,9 @@ SceneAccelerationStructures::SceneAccelerationStructures(const gpu::Context& con
       const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
       std::memcpy(&instance.transform, identity, sizeof(identity));
       instance.mask = 0xff;
-      instance.flags = VkGeometryInstanceFlagsKHR(vk::GeometryInstanceFlagBitsKHR::eTriangleFacingCullDisable);
-      if (!scene.meshes[m].cutout) instance.flags |= VkGeometryInstanceFlagsKHR(vk::GeometryInstanceFlagBitsKHR::eForceOpaque);
+      using InstanceFlag = vk::GeometryInstanceFlagBitsKHR;
+      instance.flags = VkGeometryInstanceFlagsKHR(InstanceFlag::eTriangleFacingCullDisable);
+      if (!scene.meshes[m].cutout) instance.flags |= VkGeometryInstanceFlagsKHR(InstanceFlag::eForceOpaque);
       instance.accelerationStructureReference = instanceTargets_[m];
       instances.push_back(instance);
       head.insert(head.end(), {std::uint32_t(ids.size()), firstCutout[m] ? firstCutout[m] - id : 0u});
@@ -278,7 +279,8 @@ void SceneAccelerationStructures::buildMoving(const Scene& scene, MeshSet set) {
     const auto sizes = buildSizes(context_, info, triangles(mesh));
     scratchBytes = std::max({scratchBytes, sizes.buildScratchSize, sizes.updateScratchSize});
     Moving& moving = moving_.emplace_back(Moving{
-        m, triangles(mesh), !mesh.cutout, gpu::Buffer(context_, mesh.positions.size() * sizeof(glm::vec3), kInput, "rq moving vertices"),
+        m, triangles(mesh), !mesh.cutout,
+        gpu::Buffer(context_, mesh.positions.size() * sizeof(glm::vec3), kInput, "rq moving vertices"),
         gpu::Buffer(context_, mesh.indices.size() * sizeof(std::uint32_t), kInput, "rq moving indices"),
         gpu::Buffer(context_, sizes.accelerationStructureSize, kStorage, "rq moving structure")});
     moving.structure = vk::raii::AccelerationStructureKHR(

@@ -1,6 +1,7 @@
 // The cut-out triangles and texture alpha (core/cutouts.h) uploaded for the GPU BVH's kernels,
 // which read them through BvhAddresses::cutouts and ::cutoutTexels when a candidate hit lies on a
-// cut-out triangle, and for the ray queries' (through SceneAccelerationStructures::triangleIds()). A scene without cut-outs holds one unused word in each.
+// cut-out triangle, and for the ray queries' and the line space's (SceneAccelerationStructures,
+// LineSpaceTracer). A scene without cut-outs holds one unused word in each.
 #pragma once
 #include <cstdint>
 

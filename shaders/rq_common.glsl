@@ -44,7 +44,8 @@ RayHit rqTrace(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit) {
   RayHit hit = RayHit(-1.0f, BVH_NO_HIT, 0u, 0u);
   if (rayQueryGetIntersectionTypeEXT(q, true) == gl_RayQueryCommittedIntersectionTriangleEXT) {
     hit.t = rayQueryGetIntersectionTEXT(q, true);
-    hit.triangle = rqTriangleId(rayQueryGetIntersectionInstanceIdEXT(q, true), rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
+    hit.triangle =
+        rqTriangleId(rayQueryGetIntersectionInstanceIdEXT(q, true), rayQueryGetIntersectionPrimitiveIndexEXT(q, true));
   }
   return hit;
 }

@@ -77,7 +77,7 @@ bool thinCutoutUniform(uint index, mat3 m, vec2 p) {
   // the texels' indices (shared/alpha.h takes the one the point lies in), the box a hundredth of a
   // texel wider for rounding
   vec2 first = floor(lo * size - 0.01), last = floor(hi * size + 0.01);
-  if (any(greaterThan(first, last)) || any(greaterThan(abs(first), vec2(1.0e6))) || any(greaterThan(abs(last), vec2(1.0e6)))) {
+  if (any(greaterThan(first, last)) || max(max(abs(first.x), abs(first.y)), max(abs(last.x), abs(last.y))) > 1.0e6) {
     return false;
   }
   ivec4 xs = thinTexelSpans(int(first.x), int(last.x), int(t.width));
