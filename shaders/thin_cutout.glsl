@@ -27,16 +27,14 @@ bool thinUvMap(vec4 c0, vec4 c1, vec4 c2, CutoutTriangle t, out mat3 m) {
   return abs(determinant(corners)) > 0.0;
 }
 
-// The (least, greatest) alpha of cell (x, y) of level `level` of t's texture (shared/alpha.h).
-uvec2 thinAlphaCell(CutoutTriangle t, uint level, uint x, uint y) {
+// The (least, greatest) alpha of cell (x, y) of level `level` of t's texture (shared/alpha.h),
+// whose first cell is half word `first` (level 0: the texels).
+uvec2 thinAlphaCell(CutoutTriangle t, uint level, uint first, uint x, uint y) {
   if (level == 0u) {
     uint texel = t.texels + y * t.width + x;
-    uint a = cutoutAlpha(CutoutWordArray(push.cutoutTexels).v[texel >> 2], texel);
-    return uvec2(a);
+    return uvec2(cutoutAlpha(CutoutWordArray(push.cutoutTexels).v[texel >> 2], texel));
   }
-  uint cellAt = t.ranges;
-  for (uint l = 1u; l < level; ++l) cellAt += cutoutLevelSize(t.width, l) * cutoutLevelSize(t.height, l);
-  cellAt += y * cutoutLevelSize(t.width, level) + x;
+  uint cellAt = first + y * cutoutLevelSize(t.width, level) + x;
   return cutoutRange(CutoutWordArray(push.cutoutTexels).v[cellAt >> 1], cellAt);
 }
 
@@ -86,10 +84,12 @@ bool thinCutoutUniform(uint index, mat3 m, vec2 p) {
   uint level = 0u;
   while (thinCellCount(xs, level) > 4 || thinCellCount(ys, level) > 4) ++level;
   int nx = thinCellCount(xs, level), ny = thinCellCount(ys, level);
+  uint levelAt = t.ranges;  // the level's first cell, past the finer levels
+  for (uint l = 1u; l < level; ++l) levelAt += cutoutLevelSize(t.width, l) * cutoutLevelSize(t.height, l);
   uvec2 range = uvec2(255u, 0u);
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
-      uvec2 cell = thinAlphaCell(t, level, thinCell(xs, level, i), thinCell(ys, level, j));
+      uvec2 cell = thinAlphaCell(t, level, levelAt, thinCell(xs, level, i), thinCell(ys, level, j));
       range = uvec2(min(range.x, cell.x), max(range.y, cell.y));
     }
   }
