@@ -14,6 +14,7 @@
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
+#include "raster/color_textures.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "apps/declared_options.h"
@@ -49,12 +50,12 @@ void requireFinite(float value, const char* option) {
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating,
 // by what drives it.
 struct MemoryEstimate {
-  std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, cutouts = 0, lineSpace = 0;
-  std::uint64_t total() const { return lightMaps + perPixel + geometry + cutouts + lineSpace; }
+  std::uint64_t lightMaps = 0, perPixel = 0, geometry = 0, textures = 0, lineSpace = 0;
+  std::uint64_t total() const { return lightMaps + perPixel + geometry + textures + lineSpace; }
   // The largest term, and what lowers it.
   std::string largest(const RenderSettings& s, std::uint64_t triangles) const {
     const auto mib = [](std::uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
-    const std::uint64_t top = std::max({lightMaps, perPixel, geometry, cutouts, lineSpace});
+    const std::uint64_t top = std::max({lightMaps, perPixel, geometry, textures, lineSpace});
     if (top == perPixel) {
       return "the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame's buffers (" + mib(perPixel) +
              "): lower --res";
@@ -67,7 +68,7 @@ struct MemoryEstimate {
       return "the scene's " + std::to_string(triangles) + " triangles (" + mib(geometry) +
              "): load a smaller scene or level";
     }
-    if (top == cutouts) return "the cut-outs' textures (" + mib(cutouts) + "): use smaller images";
+    if (top == textures) return "the scene's textures (" + mib(textures) + "): use smaller images";
     return "the line space's pools (" + mib(lineSpace) + "): lower --linespace-budget";
   }
 };
@@ -319,8 +320,9 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.settings.simulateBandwidth = c.simulateBandwidth;
 
   MemoryEstimate need = estimateBytes(s.settings, s.scene.triangleCount(), lineSpace);
-  // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h)
-  need.cutouts = 2 * cutoutDataBytes(s.scene);
+  // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h); the
+  // camera pass's colour textures
+  need.textures = 2 * cutoutDataBytes(s.scene) + raster::colorTextureBytes(s.scene);
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     writeViewFile(c.saveView,

@@ -125,11 +125,12 @@ fi
 licence "$scenes/bush" sweethome3d-furniture
 
 # Two ships from FlightGear's models (GPL-2+): the carrier USS Harry S. Truman (99K faces, masts,
-# antennas, deck markings) and a sailing boat with rigging (AC3D -> glb).
+# antennas, deck markings, textured) and a sailing boat with rigging (AC3D -> glb).
 unpack flightgear-data-models
 fg=$models/flightgear-data-models/usr/share/games/flightgear/Models
 mkdir -p "$scenes/truman" "$scenes/sailboat"
 convert "$fg/Geometry/Nimitz/truman.ac" "$scenes/truman/truman.glb"
+cp -n "$fg/Geometry/Nimitz/"*.png "$scenes/truman/"  # its textures (20 MB of PNG; its SGI .rgb ones are not read)
 convert "$fg/Maritime/Civilian/SailBoatUnderSail.ac" "$scenes/sailboat/SailBoatUnderSail.glb"
 licence "$scenes/truman" flightgear-data-models
 licence "$scenes/sailboat" flightgear-data-models

@@ -7,12 +7,16 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <algorithm>
 #include <filesystem>
 #include <glm/gtc/matrix_inverse.hpp>
+#include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include "core/scene_loader.h"
+#include "core/texture.h"
 
 namespace penumbra {
 
@@ -65,6 +69,78 @@ glm::dmat4 toGlm(const aiMatrix4x4& a) {
   return m;
 }
 
+// A material's images as Scene textures, each decoded once: the base colour (aiTextureType_BASE_COLOR,
+// else _DIFFUSE) and the opacity map (_OPACITY, a cut-out by OBJ map_d's rule), embedded ("*N") or
+// files in the model's folder, with the texture coordinate set each reads.
+struct MaterialImages {
+  const aiScene& ai;
+  const std::string& path;
+  const std::string folder;
+  Scene& scene;
+  std::map<std::string, std::int32_t> loaded;
+  std::uint64_t bytes = 0;
+
+  struct Image {
+    std::int32_t texture = -1;
+    unsigned uvSet = 0;
+  };
+
+  // InputError where the image cannot be had; nullopt where the material has none (or maps it
+  // other than by texture coordinates, with a warning).
+  std::optional<Image> find(const aiMaterial& material, std::initializer_list<aiTextureType> types) {
+    for (const aiTextureType type : types) {
+      aiString name;
+      aiTextureMapping mapping = aiTextureMapping_UV;
+      unsigned uvSet = 0;
+      if (material.GetTextureCount(type) == 0 || material.GetTexture(type, 0, &name, &mapping, &uvSet) != AI_SUCCESS) continue;
+      if (mapping != aiTextureMapping_UV) {
+        scene.warnings.push_back("material '" + std::string(material.GetName().C_Str()) + "' projects its image '" +
+                                 name.C_Str() + "' (not by texture coordinates); ignored");
+        return std::nullopt;
+      }
+      return Image{texture(name.C_Str()), uvSet};
+    }
+    return std::nullopt;
+  }
+
+  std::int32_t texture(const std::string& name) {
+    if (const auto known = loaded.find(name); known != loaded.end()) return known->second;
+    Texture t = decode(name);
+    if (bytes + t.rgba.size() > kMaxTextureBytes) {
+      fail(path, "its images decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB", "downscale them");
+    }
+    bytes += t.rgba.size();
+    scene.textures.push_back(std::move(t));
+    return loaded[name] = std::int32_t(scene.textures.size() - 1);
+  }
+
+  Texture decode(const std::string& name) {
+    const aiTexture* embedded = ai.GetEmbeddedTexture(name.c_str());
+    if (!embedded) return readTexture(folder, name, path);
+    if (embedded->mHeight == 0) {  // compressed: mWidth bytes of PNG, JPEG, ...
+      return decodeTexture({reinterpret_cast<const std::uint8_t*>(embedded->pcData), embedded->mWidth}, path + ": " + name);
+    }
+    if (embedded->mWidth > kMaxTextureSide || embedded->mHeight > kMaxTextureSide) {
+      fail(path, "embedded image '" + name + "' is over " + std::to_string(kMaxTextureSide) + " texels a side", "downscale it");
+    }
+    Texture t{path + ": " + name, embedded->mWidth, embedded->mHeight, {}};
+    t.rgba.reserve(std::size_t(t.width) * t.height * 4);
+    for (std::size_t i = 0; i < std::size_t(t.width) * t.height; ++i) {
+      const aiTexel& x = embedded->pcData[i];
+      t.rgba.insert(t.rgba.end(), {x.r, x.g, x.b, x.a});
+    }
+    return t;
+  }
+};
+
+// The texture coordinates of `set` for every vertex (v flipped: row 0 is the top), or none.
+std::vector<glm::vec2> textureCoordinates(const aiMesh& mesh, unsigned set) {
+  std::vector<glm::vec2> uvs;
+  if (set >= AI_MAX_NUMBER_OF_TEXTURECOORDS || !mesh.mTextureCoords[set]) return uvs;
+  for (unsigned v = 0; v < mesh.mNumVertices; ++v) uvs.emplace_back(mesh.mTextureCoords[set][v].x, 1.0f - mesh.mTextureCoords[set][v].y);
+  return uvs;
+}
+
 }  // namespace
 
 Scene loadAssimp(const std::string& path) {
@@ -91,6 +167,7 @@ Scene loadAssimp(const std::string& path) {
   Scene scene;
   std::vector<glm::dmat4> meshWorld;
   std::size_t dropped = 0;
+  MaterialImages images{*ai, path, file.parent_path().string(), scene, {}, 0};
   // Depth first with a stack of our own: a file can nest nodes deeper than the call stack goes.
   std::vector<std::pair<const aiNode*, glm::dmat4>> open{{ai->mRootNode, toGlm(ai->mRootNode->mTransformation)}};
   while (!open.empty()) {
@@ -124,10 +201,32 @@ Scene loadAssimp(const std::string& path) {
         }
         mesh.indices.insert(mesh.indices.end(), {face.mIndices[0], face.mIndices[1], face.mIndices[2]});
       }
-      aiColor4D colour;
-      if (src->mMaterialIndex < ai->mNumMaterials &&
-          ai->mMaterials[src->mMaterialIndex]->Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS) {
-        mesh.baseColor = {colour.r, colour.g, colour.b};
+      if (src->mMaterialIndex < ai->mNumMaterials) {
+        const aiMaterial& material = *ai->mMaterials[src->mMaterialIndex];
+        aiColor4D colour;
+        if (material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS) mesh.baseColor = {colour.r, colour.g, colour.b};
+        // The colour's image: where it cannot be had, a warning (once; only colour is lost).
+        std::optional<unsigned> colorSet;
+        try {
+          if (const auto image = images.find(material, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE})) {
+            mesh.uvs = textureCoordinates(*src, image->uvSet);
+            mesh.colorTexture = image->texture;
+            colorSet = image->uvSet;
+          }
+        } catch (const InputError& e) {
+          const std::string warning = std::string(e.what()) + " (only colour is lost: drawn in its base colour)";
+          if (std::find(scene.warnings.begin(), scene.warnings.end(), warning) == scene.warnings.end()) {
+            scene.warnings.push_back(warning);
+          }
+        }
+        if (const auto image = images.find(material, {aiTextureType_OPACITY})) {
+          if (colorSet && *colorSet != image->uvSet) {
+            scene.warnings.push_back("mesh '" + mesh.name + "': its opacity and colour images use different texture "
+                                     "coordinate sets; the opacity's is used for both");
+          }
+          mesh.uvs = textureCoordinates(*src, image->uvSet);
+          mesh.cutout = Cutout{image->texture, 1.0f, 0.5f};
+        }
       }
       scene.meshes.push_back(std::move(mesh));
       meshWorld.push_back(world);

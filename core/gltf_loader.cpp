@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,9 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
+#include <thread>
+#include <variant>
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -97,8 +101,8 @@ bool fsWriteWholeFile(std::string* err, const std::string&, const std::vector<un
   return false;
 }
 
-// Images stay encoded as tinygltf reads them: only those a cut-out needs are decoded (Converter::texture),
-// so image-heavy files load fast.
+// Images stay encoded as tinygltf reads them: only those a material uses as its base colour are
+// decoded (Converter::texture), so images for other maps (normals, roughness) cost nothing.
 bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
                       int size, void*) {
   image->image.assign(bytes, bytes + std::max(size, 0));
@@ -173,6 +177,8 @@ struct Converter {
   std::vector<LightNode> lightNodes;
   std::optional<glm::dmat4> cameraWorld;
   std::map<int, std::int32_t> imageTexture;  // glTF image -> Scene::textures index, once decoded
+  std::set<int> warnedTextures;               // colour textures that could not be had, warned of once
+  std::map<int, std::variant<Texture, std::string>> decoded;  // glTF image -> its texture or error (decodeImages)
   std::uint64_t textureBytes = 0;
   float yfov = 0.0f;
   bool warnedOrtho = false;
@@ -218,16 +224,39 @@ struct Converter {
     if (prim.material >= 0 && std::size_t(prim.material) < model.materials.size()) {
       const tinygltf::Material& material = model.materials[std::size_t(prim.material)];
       out.baseColor = rgb(material.pbrMetallicRoughness.baseColorFactor, glm::vec3(1.0f));
-      if (material.alphaMode == "MASK" || material.alphaMode == "BLEND") addCutout(prim, material, out);
+      // MASK's texture is the mesh's shape: one that cannot be had is an error. BLEND's is a
+      // translucency cut at 0.5 (docs/methods.md); without it the factor alone decides, with a warning.
+      const bool cut = material.alphaMode == "MASK" || material.alphaMode == "BLEND";
+      const tinygltf::TextureInfo& info = material.pbrMetallicRoughness.baseColorTexture;
+      if (info.index >= 0 && readTextureCoordinates(prim, info, out)) {
+        out.colorTexture = texture(info.index, material.alphaMode == "MASK");
+      }
+      if (cut) addCutout(material, out);
     }
     scene.meshes.push_back(std::move(out));
     meshWorld.push_back(world);
     if (animatedOnChain > 0) animated.push_back({scene.meshes.size() - 1, chain});
   }
 
+  // The base colour texture's coordinates (its texCoord set, KHR_texture_transform baked in) into
+  // out.uvs; false, with a warning, when the primitive lacks that set.
+  bool readTextureCoordinates(const tinygltf::Primitive& prim, const tinygltf::TextureInfo& info, Mesh& out) {
+    const TextureTransform transform(info);
+    const std::string set = "TEXCOORD_" + std::to_string(transform.texCoord);
+    const auto uv = prim.attributes.find(set);
+    if (uv == prim.attributes.end()) {
+      scene.warnings.push_back("glTF primitive '" + out.name + "' has no " + set +
+                               " for its base colour texture; its base colour (and alpha) factor alone is used");
+      return false;
+    }
+    out.uvs = gltf::readVec2(model, uv->second, set, path);
+    transform.bake(out.uvs);
+    return true;
+  }
+
   // alphaMode MASK cuts at alphaCutoff, BLEND by the same rule at 0.5 (docs/methods.md); the alpha
   // is baseColorFactor's times the base colour texture's.
-  void addCutout(const tinygltf::Primitive& prim, const tinygltf::Material& material, Mesh& out) {
+  void addCutout(const tinygltf::Material& material, Mesh& out) {
     Cutout cutout;
     const std::vector<double>& factor = material.pbrMetallicRoughness.baseColorFactor;
     cutout.factor = factor.size() >= 4 ? float(factor[3]) : 1.0f;
@@ -235,25 +264,76 @@ struct Converter {
     if (!std::isfinite(cutout.factor) || !std::isfinite(cutout.cutoff)) {
       fail(path, "material '" + material.name + "' has a non-finite alpha factor or cutoff", "re-export it");
     }
-    const tinygltf::TextureInfo& info = material.pbrMetallicRoughness.baseColorTexture;
-    if (info.index >= 0) {
-      const TextureTransform transform(info);
-      const int set = transform.texCoord;
-      const auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(set));
-      if (uv != prim.attributes.end()) {
-        out.uvs = gltf::readVec2(model, uv->second, "TEXCOORD_" + std::to_string(set), path);
-        transform.bake(out.uvs);
-        cutout.texture = texture(info.index);
-      } else {
-        scene.warnings.push_back("glTF primitive '" + out.name + "' has no TEXCOORD_" + std::to_string(set) +
-                                 " for its alpha texture; its alpha factor alone cuts it out");
-      }
-    }
+    cutout.texture = out.colorTexture;
     out.cutout = cutout;
   }
 
+  // Every image a primitive's material takes its base colour from, decoded before the walk on all
+  // cores (decoding is most of loading a textured model); what failed keeps its error for texture().
+  void decodeImages() {
+    std::vector<int> sources;
+    for (const tinygltf::Mesh& mesh : model.meshes) {
+      for (const tinygltf::Primitive& prim : mesh.primitives) {
+        if (prim.material < 0 || std::size_t(prim.material) >= model.materials.size()) continue;
+        const int t = model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index;
+        if (t < 0 || std::size_t(t) >= model.textures.size()) continue;
+        const int source = model.textures[std::size_t(t)].source;
+        if (source >= 0 && std::size_t(source) < model.images.size() && !model.images[std::size_t(source)].image.empty()) {
+          sources.push_back(source);
+        }
+      }
+    }
+    std::sort(sources.begin(), sources.end());
+    sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
+    std::vector<std::variant<Texture, std::string>> results(sources.size());
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t i; (i = next++) < sources.size();) {
+        const tinygltf::Image& image = model.images[std::size_t(sources[i])];
+        try {
+          results[i] = decodeTexture(image.image, path + ": " + imageName(sources[i]));
+        } catch (const InputError& e) {
+          results[i] = std::string(e.what());
+        }
+      }
+    };
+    std::vector<std::jthread> workers(std::min<std::size_t>(sources.size(), std::max(1u, std::thread::hardware_concurrency())));
+    for (std::jthread& w : workers) w = std::jthread(work);
+    workers.clear();  // joins
+    for (std::size_t i = 0; i < sources.size(); ++i) decoded.emplace(sources[i], std::move(results[i]));
+  }
+
+  // Image `source`'s decoded texture (decodeImages; decoded now where it was not), or its error.
+  Texture takeDecoded(int source, const std::string& name) {
+    const auto found = decoded.find(source);
+    if (found == decoded.end()) return decodeTexture(model.images[std::size_t(source)].image, path + ": " + name);
+    if (const std::string* error = std::get_if<std::string>(&found->second)) throw InputError(*error);
+    return std::move(std::get<Texture>(found->second));
+  }
+
+  std::string imageName(int source) const {
+    const tinygltf::Image& image = model.images[std::size_t(source)];
+    return !image.uri.empty() ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source) : image.uri)
+           : !image.name.empty() ? image.name
+                                 : "image " + std::to_string(source);
+  }
+
   // The scene texture of glTF texture `index`, its image decoded once however many materials use it.
-  std::int32_t texture(int index) {
+  // Where the image cannot be had, a `required` one (MASK's) fails with InputError; any other warns
+  // and returns -1 (the mesh keeps its base colour, and a BLEND mesh its alpha factor alone).
+  std::int32_t texture(int index, bool required) {
+    try {
+      return decodedTexture(index);
+    } catch (const InputError& e) {
+      if (required) throw;
+      if (warnedTextures.insert(index).second) {
+        scene.warnings.push_back(std::string(e.what()) + " (only colour and translucency are lost: drawn in its base colour)");
+      }
+      return -1;
+    }
+  }
+
+  std::int32_t decodedTexture(int index) {
     if (std::size_t(index) >= model.textures.size()) {
       fail(path, "texture " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
     }
@@ -268,24 +348,20 @@ struct Converter {
       const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
       if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT) {
         scene.warnings.push_back("glTF texture " + std::to_string(index) +
-                                 " clamps or mirrors; cut-outs repeat it (docs/methods.md)");
+                                 " clamps or mirrors; every method repeats it (docs/methods.md)");
       }
     }
     const tinygltf::Image& image = model.images[std::size_t(source)];
-    const std::string name = !image.uri.empty() ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source)
-                                                                                     : image.uri)
-                             : !image.name.empty() ? image.name
-                                                   : "image " + std::to_string(source);
+    const std::string name = imageName(source);
     if (image.image.empty()) {
-      fail(path, "image '" + name + "', which a cut-out material needs, could not be read",
-           "put it in the model's folder or embed it");
+      fail(path, "image '" + name + "' could not be read", "put it in the model's folder or embed it");
     }
-    Texture decoded = decodeTexture(image.image, path + ": " + name);
-    textureBytes += decoded.rgba.size();
-    if (textureBytes > kMaxTextureBytes) {
-      fail(path, "its cut-out textures decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB",
+    Texture decoded = takeDecoded(source, name);
+    if (textureBytes + decoded.rgba.size() > kMaxTextureBytes) {
+      fail(path, "its textures decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB",
            "downscale the textures");
     }
+    textureBytes += decoded.rgba.size();
     scene.textures.push_back(std::move(decoded));
     return imageTexture[source] = std::int32_t(scene.textures.size() - 1);
   }
@@ -397,6 +473,7 @@ struct Converter {
   }
 
   void run() {
+    decodeImages();
     onPath.assign(model.nodes.size(), 0);
     for (int root : roots()) visit(root);
     const glm::dmat4 toScene = placeMeshes(scene, meshWorld);

@@ -1,6 +1,6 @@
 // Wavefront OBJ loader. tinyobj parses from memory so that it never opens files itself: the
-// material libraries and alpha maps (map_d: cut-outs, docs/methods.md) are read here, and only from
-// the OBJ's own folder. Coordinates are parsed in
+// material libraries and their images (map_Kd: colour; map_d: cut-outs, docs/methods.md) are read
+// here, and only from the OBJ's own folder. Coordinates are parsed in
 // double (tinyobjloader_double) and stored relative to the scene's origin, so that georeferenced
 // files keep their detail.
 #include <array>
@@ -67,33 +67,34 @@ std::string materialText(const std::string& objText, const std::string& path, co
   return text;
 }
 
-// A material's map_d (the Wavefront alpha map) as a Scene texture: the image's alpha channel, or its
-// luminance when it has none (the spec's default channel for map_d on a colour image). Decoded once
-// per file; InputError for one outside the OBJ's folder, missing or corrupt.
-struct AlphaMaps {
+// A material's image as a Scene texture (readTexture), decoded once per file.
+struct Images {
   const std::string& path;
   const std::string& folder;
   Scene& scene;
   std::map<std::string, std::int32_t> loaded;
+  std::uint64_t bytes = 0;  // decoded so far
 
   std::int32_t operator()(const std::string& name) {
-    if (const auto known = loaded.find(name); known != loaded.end()) return known->second;
-    const std::string why = confinedPathProblem(folder, name);
-    if (!why.empty()) fail(path, "alpha map '" + name + "' is outside the OBJ's folder (" + why + ")", "copy it beside the OBJ");
-    std::string bytes;
-    if (!readText((fs::path(folder) / name).string(), bytes)) {
-      fail(path, "alpha map '" + name + "' could not be read", "put it beside the OBJ");
+    // (-1: a colour map that failed; a map_d of the same image tries again, to fail loudly)
+    if (const auto known = loaded.find(name); known != loaded.end() && known->second >= 0) return known->second;
+    Texture t = readTexture(folder, name, path);
+    if (bytes + t.rgba.size() > kMaxTextureBytes) {
+      fail(path, "its images decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB", "downscale them");
     }
-    int channels = 0;
-    Texture t = decodeTexture(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
-                              path + ": " + name, &channels);
-    if (channels == 1 || channels == 3) {
-      for (std::size_t i = 0; i + 3 < t.rgba.size(); i += 4) {
-        t.rgba[i + 3] = std::uint8_t((299u * t.rgba[i] + 587u * t.rgba[i + 1] + 114u * t.rgba[i + 2] + 500u) / 1000u);
-      }
-    }
+    bytes += t.rgba.size();
     scene.textures.push_back(std::move(t));
     return loaded[name] = std::int32_t(scene.textures.size() - 1);
+  }
+
+  // A map_Kd: where it cannot be had, a warning (once per image) and -1, the material's Kd alone.
+  std::int32_t color(const std::string& name) {
+    try {
+      return (*this)(name);
+    } catch (const InputError& e) {
+      if (loaded.emplace(name, -1).second) scene.warnings.push_back(std::string(e.what()) + " (only colour is lost: Kd alone drawn)");
+      return -1;
+    }
   }
 };
 
@@ -143,20 +144,25 @@ Scene loadObj(const std::string& path) {
     }
   }
   scene.origin = world.origin();
-  AlphaMaps alphaMaps{path, folder, scene, {}};
+  Images images{path, folder, scene, {}, 0};
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const tinyobj::mesh_t& src = shapes[s].mesh;
     const std::string shapeName = shapes[s].name.empty() ? "shape" + std::to_string(s) : shapes[s].name;
     // One Mesh per (shape, material); vertices deduplicated by (position, normal) index pair, and
-    // by texture coordinate too in a cut-out (a material with map_d), which keeps them.
+    // by texture coordinate too where the material has an image (map_Kd, map_d), which keeps them.
     struct Part {
       Mesh mesh;
       std::unordered_map<std::uint64_t, std::uint32_t> remap;
-      std::map<std::array<int, 3>, std::uint32_t> cutoutRemap;
+      std::map<std::array<int, 3>, std::uint32_t> texturedRemap;
       bool allNormals = true;
     };
-    const auto cutout = [&](int material) {
-      return material >= 0 && std::size_t(material) < materials.size() && !trimmed(materials[std::size_t(material)].alpha_texname).empty();
+    const auto image = [&](int material, std::string tinyobj::material_t::*name) {
+      return material >= 0 && std::size_t(material) < materials.size() ? trimmed(materials[std::size_t(material)].*name)
+                                                                       : std::string();
+    };
+    const auto textured = [&](int material) {
+      return !image(material, &tinyobj::material_t::alpha_texname).empty() ||
+             !image(material, &tinyobj::material_t::diffuse_texname).empty();
     };
     std::map<int, Part> parts;
     for (std::size_t i = 0; i < src.indices.size(); ++i) {
@@ -173,11 +179,11 @@ Scene loadObj(const std::string& path) {
       Part& part = parts[material];
       const auto next = std::uint32_t(part.mesh.positions.size());
       const std::uint64_t key = std::uint64_t(std::uint32_t(idx.vertex_index)) << 32 | std::uint32_t(idx.normal_index + 1);
-      const bool cut = cutout(material);
+      const bool withUv = textured(material);
       std::uint32_t index = next;
       bool inserted = true;
-      if (cut) {
-        const auto [at, added] = part.cutoutRemap.try_emplace({idx.vertex_index, idx.normal_index, idx.texcoord_index}, next);
+      if (withUv) {
+        const auto [at, added] = part.texturedRemap.try_emplace({idx.vertex_index, idx.normal_index, idx.texcoord_index}, next);
         index = at->second;
         inserted = added;
       } else {
@@ -185,7 +191,7 @@ Scene loadObj(const std::string& path) {
         index = at->second;
         inserted = added;
       }
-      if (inserted && cut) {
+      if (inserted && withUv) {
         const bool has = idx.texcoord_index >= 0 && std::size_t(2 * idx.texcoord_index + 1) < attrib.texcoords.size();
         const tinyobj::real_t* t = has ? &attrib.texcoords[2 * std::size_t(idx.texcoord_index)] : nullptr;
         part.mesh.uvs.emplace_back(has ? float(t[0]) : 0.0f, has ? 1.0f - float(t[1]) : 0.0f);  // OBJ's v points up
@@ -208,7 +214,12 @@ Scene loadObj(const std::string& path) {
         const tinyobj::material_t& m = materials[std::size_t(material)];
         if (parts.size() > 1) mesh.name += "/" + m.name;
         mesh.baseColor = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
-        if (cutout(material)) mesh.cutout = Cutout{alphaMaps(trimmed(m.alpha_texname)), float(m.dissolve), 0.5f};
+        if (const std::string alpha = image(material, &tinyobj::material_t::alpha_texname); !alpha.empty()) {
+          mesh.cutout = Cutout{images(alpha), float(m.dissolve), 0.5f};
+        }
+        if (const std::string color = image(material, &tinyobj::material_t::diffuse_texname); !color.empty()) {
+          mesh.colorTexture = images.color(color);
+        }
       }
       if (!part.allNormals) mesh.normals.clear();  // cleanScene derives them from the faces
       scene.meshes.push_back(std::move(mesh));

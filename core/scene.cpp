@@ -90,12 +90,18 @@ struct Dropped {
   std::size_t nonFinite = 0, badIndex = 0, degenerate = 0;
 };
 
-// A cut-out needs its texture and a texture coordinate per vertex; without them, or without a
-// texture, the factor decides for the whole mesh: solid (an opaque mesh) or cut away (no triangles).
-void cleanCutout(Mesh& mesh, std::size_t textures, std::vector<std::string>& warnings) {
+// A colour texture and a cut-out need their texture and a texture coordinate per vertex. Without
+// them the colour is baseColor alone, and the cut-out's factor decides for the whole mesh: solid
+// (an opaque mesh) or cut away (no triangles).
+void cleanTextures(Mesh& mesh, std::size_t textures, std::vector<std::string>& warnings) {
   if (mesh.uvs.size() != mesh.positions.size()) mesh.uvs.clear();
   for (glm::vec2& uv : mesh.uvs) {
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+  }
+  if (mesh.colorTexture >= 0 && (std::size_t(mesh.colorTexture) >= textures || mesh.uvs.empty())) {
+    warnings.push_back("mesh '" + mesh.name + "': its colour texture " +
+                       (mesh.uvs.empty() ? "has no texture coordinates" : "is missing") + "; its base colour alone is drawn");
+    mesh.colorTexture = -1;
   }
   if (!mesh.cutout) return;
   Cutout& c = *mesh.cutout;
@@ -181,7 +187,7 @@ void cleanScene(Scene& scene, const std::string& source) {
   Dropped dropped;
   for (Mesh& mesh : scene.meshes) {
     cleanMesh(mesh, areaEpsilon, dropped);
-    cleanCutout(mesh, scene.textures.size(), scene.warnings);
+    cleanTextures(mesh, scene.textures.size(), scene.warnings);
   }
   // Meshes left without triangles go; animations follow their meshes' new indices.
   std::vector<std::size_t> newIndex(scene.meshes.size());

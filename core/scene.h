@@ -45,7 +45,8 @@ struct Mesh {
   std::vector<std::uint32_t> indices;  // three per triangle
   std::vector<glm::vec2> uvs;        // texture coordinates, one per position (or none)
   std::optional<Cutout> cutout;      // alpha-tested; a cut-out with a texture has uvs
-  glm::vec3 baseColor{0.8f};
+  glm::vec3 baseColor{0.8f};         // linear RGB, times the colour texture's where there is one
+  std::int32_t colorTexture = -1;    // index into Scene::textures: the base colour (sRGB) at uvs; -1: none
   bool dynamic = false;  // moves during the run (posed by an animation, core/animation.h); static otherwise
   std::size_t triangleCount() const { return indices.size() / 3; }
 };
@@ -115,7 +116,7 @@ struct Scene {
   // lights in world coordinates; core/view.h converts them with this origin.
   glm::dvec3 origin{0.0};
   std::vector<Mesh> meshes;
-  std::vector<Texture> textures;  // those the meshes use (Cutout::texture)
+  std::vector<Texture> textures;  // those the meshes use (Cutout::texture, Mesh::colorTexture)
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
   std::vector<Light> lights;     // the first one is used
   std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats

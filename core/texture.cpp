@@ -1,6 +1,13 @@
 #include "core/texture.h"
 
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+
+#include "core/scene_loader.h"
 
 // stb_image is header-only; its functions are made static here so they cannot clash with the copy
 // in libstb that other libraries link against. PNG and JPEG: what glTF allows without extensions.
@@ -42,6 +49,38 @@ Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& 
   t.height = std::uint32_t(height);
   t.rgba.assign(pixels.get(), pixels.get() + std::size_t(width) * std::size_t(height) * 4);
   return t;
+}
+
+Texture readTexture(const std::string& folder, const std::string& name, const std::string& model) {
+  const std::string why = confinedPathProblem(folder, name);
+  if (!why.empty()) {
+    throw InputError("'" + model + "': image '" + name + "' is outside the model's folder (" + why + "); copy it beside the model");
+  }
+  std::ifstream in(std::filesystem::path(folder) / name, std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in.is_open() || in.bad()) throw InputError("'" + model + "': image '" + name + "' could not be read; put it beside the model");
+  int channels = 0;
+  Texture t = decodeTexture(bytes, model + ": " + name, &channels);
+  if (channels == 1 || channels == 3) {
+    for (std::size_t i = 0; i + 3 < t.rgba.size(); i += 4) {
+      t.rgba[i + 3] = std::uint8_t((299u * t.rgba[i] + 587u * t.rgba[i + 1] + 114u * t.rgba[i + 2] + 500u) / 1000u);
+    }
+  }
+  return t;
+}
+
+glm::vec3 meanColor(const Texture& texture) {
+  std::array<float, 256> linear{};
+  for (std::size_t i = 0; i < linear.size(); ++i) {
+    const float c = float(i) / 255.0f;
+    linear[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  }
+  glm::dvec3 sum(0.0);
+  for (std::size_t i = 0; i + 3 < texture.rgba.size(); i += 4) {
+    sum += glm::dvec3(linear[texture.rgba[i]], linear[texture.rgba[i + 1]], linear[texture.rgba[i + 2]]);
+  }
+  const std::size_t texels = texture.rgba.size() / 4;
+  return texels == 0 ? glm::vec3(1.0f) : glm::vec3(sum / double(texels));
 }
 
 }  // namespace penumbra

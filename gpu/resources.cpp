@@ -1,5 +1,6 @@
 #include "gpu/resources.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace penumbra::gpu {
@@ -36,6 +37,7 @@ std::uint32_t bytesPerTexel(vk::Format format) {
   switch (format) {
     case vk::Format::eR32G32B32A32Sfloat: return 16;
     case vk::Format::eR8G8B8A8Unorm: return 4;
+    case vk::Format::eR8G8B8A8Srgb: return 4;
     case vk::Format::eD32Sfloat: return 4;
     case vk::Format::eR32Sfloat: return 4;
     case vk::Format::eR32Uint: return 4;
@@ -48,7 +50,7 @@ Image::Image(const Context& context, const ImageDesc& desc)
       image_(context.device(), vk::ImageCreateInfo{.imageType = vk::ImageType::e2D,
                                                    .format = desc.format,
                                                    .extent = {desc.width, desc.height, 1},
-                                                   .mipLevels = 1,
+                                                   .mipLevels = desc.mipLevels,
                                                    .arrayLayers = desc.layers,
                                                    .samples = vk::SampleCountFlagBits::e1,
                                                    .tiling = vk::ImageTiling::eOptimal,
@@ -64,7 +66,7 @@ Image::Image(const Context& context, const ImageDesc& desc)
     return vk::raii::ImageView(context.device(), {.image = *image_,
                                                   .viewType = type,
                                                   .format = desc.format,
-                                                  .subresourceRange = {aspect(), 0, 1, base, count}});
+                                                  .subresourceRange = {aspect(), 0, desc.mipLevels, base, count}});
   };
   view_ = makeView(desc.layers == 1 && !desc.arrayView ? vk::ImageViewType::e2D : vk::ImageViewType::e2DArray, 0, desc.layers);
   for (std::uint32_t layer = 0; layer < desc.layers; ++layer) layerViews_.push_back(makeView(vk::ImageViewType::e2D, layer, 1));
@@ -77,7 +79,11 @@ vk::ImageAspectFlags Image::aspect() const {
 }
 
 vk::DeviceSize Image::bytes() const {
-  return vk::DeviceSize(desc_.width) * desc_.height * desc_.layers * bytesPerTexel(desc_.format);
+  vk::DeviceSize texels = 0;
+  for (std::uint32_t level = 0; level < desc_.mipLevels; ++level) {
+    texels += vk::DeviceSize(std::max(desc_.width >> level, 1u)) * std::max(desc_.height >> level, 1u);
+  }
+  return texels * desc_.layers * bytesPerTexel(desc_.format);
 }
 
 void transition(const vk::raii::CommandBuffer& cmd, const Image& image, const Transition& t) {
@@ -90,7 +96,7 @@ void transition(const vk::raii::CommandBuffer& cmd, const Image& image, const Tr
                                         .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                                         .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
                                         .image = image.handle(),
-                                        .subresourceRange = {image.aspect(), 0, 1, 0, image.desc().layers}};
+                                        .subresourceRange = {image.aspect(), 0, image.desc().mipLevels, 0, image.desc().layers}};
   cmd.pipelineBarrier2({.imageMemoryBarrierCount = 1, .pImageMemoryBarriers = &barrier});
 }
 

@@ -62,6 +62,7 @@ struct ImageDesc {
   vk::ImageUsageFlags usage;
   std::string name;
   bool arrayView = false;  // view() is a 2D array even with one layer (for sampler2DArray)
+  std::uint32_t mipLevels = 1;  // views and transitions cover them all
 };
 
 class Image {

@@ -33,7 +33,7 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
       settings_(resolved(context, settings)),
       bounds_(scene.bounds()),
       geometry_(context, scene),
-      gbuffer_(context, settings.width, settings.height),
+      gbuffer_(context, scene, settings.width, settings.height),
       lookup_(context),
       shade_(context),
       classify_(context),

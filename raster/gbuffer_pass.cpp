@@ -1,8 +1,9 @@
 #include "raster/gbuffer_pass.h"
 
 #include "gbuffer_cutout_frag.h"
-#include "gbuffer_cutout_vert.h"
 #include "gbuffer_frag.h"
+#include "gbuffer_textured_frag.h"
+#include "gbuffer_textured_vert.h"
 #include "gbuffer_vert.h"
 #include "shared/gbuffer.h"
 #include "shared/raster.h"
@@ -16,26 +17,35 @@ constexpr vk::Format kNormalFormat = vk::Format::eR32G32B32A32Sfloat;
 constexpr vk::Format kAlbedoFormat = vk::Format::eR8G8B8A8Unorm;
 constexpr vk::Format kFaceNormalFormat = vk::Format::eR32Uint;
 
-// The camera pass's pipeline; `cutout`: for cut-out meshes, with texture coordinates and the alpha test.
-gpu::GraphicsPipelineDesc pipelineDesc(bool cutout) {
+enum class Draws { Plain, Textured, Cutout };
+
+// The camera pass's pipeline for meshes without textures, with a colour texture, or cut out (with
+// the alpha test, and a colour texture or white).
+gpu::GraphicsPipelineDesc pipelineDesc(Draws draws) {
+  using Spirv = std::span<const std::uint32_t>;
   gpu::GraphicsPipelineDesc d;
-  d.vertexSpirv = cutout ? std::span<const std::uint32_t>(gbuffer_cutout_vert) : std::span<const std::uint32_t>(gbuffer_vert);
-  d.fragmentSpirv = cutout ? std::span<const std::uint32_t>(gbuffer_cutout_frag) : std::span<const std::uint32_t>(gbuffer_frag);
+  d.vertexSpirv = draws == Draws::Plain ? Spirv(gbuffer_vert) : Spirv(gbuffer_textured_vert);
+  d.fragmentSpirv = draws == Draws::Plain ? Spirv(gbuffer_frag) : draws == Draws::Textured ? Spirv(gbuffer_textured_frag)
+                                                                                         : Spirv(gbuffer_cutout_frag);
   d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
   d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)},
                         {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
                         {2, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, color)}};
   d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat, kFaceNormalFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO, _FACE_NORMAL
   d.depthCompare = vk::CompareOp::eGreater;  // reversed depth (ViewMatrices::reversedDepthViewProj)
-  d.pushConstantBytes = cutout ? sizeof(shared::CutoutDrawPush) : sizeof(shared::GBufferPush);
-  d.name = cutout ? "gbuffer cutout pipeline" : "gbuffer pipeline";
-  if (cutout) readTextureCoordinates(d);
+  d.pushConstantBytes = draws == Draws::Plain ? sizeof(shared::GBufferPush) : sizeof(shared::CutoutDrawPush);
+  d.name = draws == Draws::Plain ? "gbuffer pipeline" : draws == Draws::Textured ? "gbuffer textured pipeline"
+                                                                                 : "gbuffer cutout pipeline";
+  if (draws != Draws::Plain) {
+    readTextureCoordinates(d);
+    d.bindings = {{GBUFFER_BINDING_COLOR, vk::DescriptorType::eCombinedImageSampler}};
+  }
   return d;
 }
 
 }  // namespace
 
-GBufferPass::GBufferPass(const gpu::Context& context, std::uint32_t width, std::uint32_t height)
+GBufferPass::GBufferPass(const gpu::Context& context, const Scene& scene, std::uint32_t width, std::uint32_t height)
     : width_(width),
       height_(height),
       position_(context, {kPositionFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer position"}),
@@ -45,8 +55,10 @@ GBufferPass::GBufferPass(const gpu::Context& context, std::uint32_t width, std::
       depth_(context, {vk::Format::eD32Sfloat, width, height, 1, Usage::eDepthStencilAttachment, "gbuffer depth"}),
       positionReadback_(context, position_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer position readback"),
       normalReadback_(context, normal_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer normal readback"),
-      pipeline_(context, pipelineDesc(false)),
-      cutoutPipeline_(context, pipelineDesc(true)) {}
+      textures_(context, scene),
+      pipeline_(context, pipelineDesc(Draws::Plain)),
+      texturedPipeline_(context, pipelineDesc(Draws::Textured)),
+      cutoutPipeline_(context, pipelineDesc(Draws::Cutout)) {}
 
 void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry& geometry, const ViewMatrices& view,
                          const glm::vec3& cameraPosition) const {
@@ -83,14 +95,22 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   pipeline_.bind(cmd, gpu::Descriptors{});
   pipeline_.pushConstants(cmd, shared::GBufferPush{view.reversedDepthViewProj, glm::vec4(cameraPosition, 1.0f)});
   geometry.bind(cmd);
-  geometry.drawOpaque(cmd);
-  if (geometry.hasCutouts()) {
-    cutoutPipeline_.bind(cmd, gpu::Descriptors{});
-    geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
-      cutoutPipeline_.pushConstants(
-          cmd, geometry.cutoutPush(view.reversedDepthViewProj, glm::vec4(cameraPosition, 1.0f), draw));
-    });
-  }
+  geometry.drawPlain(cmd);
+  const glm::vec4 camera(cameraPosition, 1.0f);
+  // Binds `pipeline` with the colour texture (Descriptors point into themselves: made in place).
+  const auto bind = [&](const gpu::GraphicsPipeline& pipeline, std::int32_t texture) {
+    gpu::Descriptors color;
+    color.sampledImage(GBUFFER_BINDING_COLOR, textures_.view(texture), textures_.sampler());
+    pipeline.bind(cmd, color);
+  };
+  geometry.drawTextured(cmd, [&](const TexturedDraw& draw) {
+    bind(texturedPipeline_, draw.colorTexture);
+    texturedPipeline_.pushConstants(cmd, shared::CutoutDrawPush{.viewProj = view.reversedDepthViewProj, .cameraPosition = camera});
+  });
+  geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
+    bind(cutoutPipeline_, draw.colorTexture);
+    cutoutPipeline_.pushConstants(cmd, geometry.cutoutPush(view.reversedDepthViewProj, camera, draw));
+  });
   cmd.endRendering();
 
   const gpu::Transition toGeneral{vk::ImageLayout::eColorAttachmentOptimal, vk::ImageLayout::eGeneral,

@@ -1,5 +1,6 @@
 #include "raster/scene_geometry.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "core/cutouts.h"
@@ -14,16 +15,24 @@ std::size_t vertexCount(const Scene& scene) {
   return n;
 }
 
-// Texture coordinates for every vertex when the scene has cut-outs, else none.
-std::vector<glm::vec2> textureCoordinates(const Scene& scene, const CutoutData& cutouts) {
-  if (cutouts.triangles.empty()) return {};
+bool textured(const Mesh& m) { return m.cutout || m.colorTexture >= 0; }
+
+// Texture coordinates for every vertex when a mesh has cut-outs or a colour texture, else none.
+std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
+  if (std::none_of(scene.meshes.begin(), scene.meshes.end(), textured)) return {};
   std::vector<glm::vec2> uvs;
   uvs.reserve(vertexCount(scene));
   for (const Mesh& m : scene.meshes) {
-    if (m.cutout) uvs.insert(uvs.end(), m.uvs.begin(), m.uvs.end());
+    if (textured(m)) uvs.insert(uvs.end(), m.uvs.begin(), m.uvs.end());
     else uvs.resize(uvs.size() + m.positions.size(), glm::vec2(0.0f));
   }
   return uvs;
+}
+
+// Appends a draw of `count` indices from `first`, joining the previous run where it ends there.
+void appendRun(std::vector<std::pair<std::uint32_t, std::uint32_t>>& runs, std::uint32_t first, std::uint32_t count) {
+  if (!runs.empty() && runs.back().first + runs.back().second == first) runs.back().second += count;
+  else runs.emplace_back(first, count);
 }
 
 }  // namespace
@@ -36,7 +45,7 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
                 "scene vertices"),
       indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
                "scene indices"),
-      uvs_(gpu::uploadedBuffer(context, std::span<const glm::vec2>(textureCoordinates(scene, cutouts)),
+      uvs_(gpu::uploadedBuffer(context, std::span<const glm::vec2>(textureCoordinates(scene)),
                                vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
       triangles_(gpu::uploadedBuffer(context, std::span(cutouts.triangles), vk::BufferUsageFlagBits::eShaderDeviceAddress,
                                      "scene cutout triangles")),
@@ -55,13 +64,14 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
     const auto count = std::uint32_t(mesh.indices.size());
     if (mesh.cutout) {
       const Texture& t = scene.textures.at(std::size_t(mesh.cutout->texture));
-      cutouts_.push_back({first, count, cutoutTriangle, cutouts.firstTexel.at(std::size_t(mesh.cutout->texture)),
-                          t.width, t.height, mesh.cutout->factor, mesh.cutout->cutoff});
+      cutouts_.push_back({first, count, mesh.colorTexture, cutoutTriangle,
+                          cutouts.firstTexel.at(std::size_t(mesh.cutout->texture)), t.width, t.height,
+                          mesh.cutout->factor, mesh.cutout->cutoff});
       cutoutTriangle += count / 3;
-    } else if (!opaque_.empty() && opaque_.back().first + opaque_.back().second == first) {
-      opaque_.back().second += count;  // one draw for a run of opaque meshes
     } else {
-      opaque_.emplace_back(first, count);
+      appendRun(opaque_, first, count);  // one draw for a run of opaque meshes
+      if (mesh.colorTexture >= 0) textured_.push_back({first, count, mesh.colorTexture});
+      else appendRun(plain_, first, count);
     }
     first += count;
   }
@@ -88,6 +98,20 @@ void SceneGeometry::draw(const vk::raii::CommandBuffer& cmd) const { cmd.drawInd
 
 void SceneGeometry::drawOpaque(const vk::raii::CommandBuffer& cmd) const {
   for (const auto& [first, count] : opaque_) cmd.drawIndexed(count, 1, first, 0, 0);
+}
+
+void SceneGeometry::drawPlain(const vk::raii::CommandBuffer& cmd) const {
+  for (const auto& [first, count] : plain_) cmd.drawIndexed(count, 1, first, 0, 0);
+}
+
+void SceneGeometry::drawTextured(const vk::raii::CommandBuffer& cmd,
+                                 const std::function<void(const TexturedDraw&)>& push) const {
+  if (textured_.empty()) return;
+  cmd.bindVertexBuffers(1, {uvs_.handle()}, {vk::DeviceSize(0)});
+  for (const TexturedDraw& draw : textured_) {
+    push(draw);
+    cmd.drawIndexed(draw.indexCount, 1, draw.firstIndex, 0, 0);
+  }
 }
 
 void SceneGeometry::drawCutouts(const vk::raii::CommandBuffer& cmd,

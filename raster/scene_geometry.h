@@ -2,6 +2,7 @@
 // index buffer in scene order, so a raster pass draws the whole scene with a single indexed draw.
 // Passes that cut alpha-tested meshes (core/cutouts.h) draw the opaque meshes so, then each cut-out
 // mesh with its texture coordinates (a second vertex buffer) and its cut-out in push constants.
+// The camera pass draws the meshes with a colour texture each on its own too (drawTextured).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -39,9 +40,16 @@ inline void readTextureCoordinates(gpu::GraphicsPipelineDesc& d) {
 
 static_assert(sizeof(shared::CutoutDrawPush) == 112, "CutoutDrawPush must match std430");
 
-// One cut-out mesh's draw: its indices and its cut-out as CutoutDrawPush takes it.
+// One opaque mesh's draw with its colour texture (Mesh::colorTexture).
+struct TexturedDraw {
+  std::uint32_t firstIndex = 0, indexCount = 0;
+  std::int32_t colorTexture = -1;
+};
+
+// One cut-out mesh's draw: its indices, colour texture and its cut-out as CutoutDrawPush takes it.
 struct CutoutDraw {
   std::uint32_t firstIndex = 0, indexCount = 0;
+  std::int32_t colorTexture = -1;
   std::uint32_t firstTriangle = 0;  // its first triangle's CutoutTriangle (core/cutouts.h)
   std::uint32_t firstTexel = 0, width = 0, height = 0;
   float factor = 1.0f, cutoff = 0.5f;
@@ -58,6 +66,10 @@ class SceneGeometry {
   void bind(const vk::raii::CommandBuffer& cmd) const;  // vertex + index buffers
   void draw(const vk::raii::CommandBuffer& cmd) const;  // the whole scene, cut-outs drawn solid
   void drawOpaque(const vk::raii::CommandBuffer& cmd) const;  // every mesh that is not cut out
+  void drawPlain(const vk::raii::CommandBuffer& cmd) const;   // ... and has no colour texture
+  // Each opaque mesh with a colour texture: binds the texture coordinates, lets `push` set what the
+  // draw needs, then draws it.
+  void drawTextured(const vk::raii::CommandBuffer& cmd, const std::function<void(const TexturedDraw&)>& push) const;
   bool hasCutouts() const { return !cutouts_.empty(); }
   // Each cut-out mesh: binds the texture coordinates, lets `push` set the push constants (from
   // cutoutPush), then draws it. Bind the cut-out pipeline first.
@@ -79,11 +91,13 @@ class SceneGeometry {
   SceneGeometry(const gpu::Context& context, const Scene& scene, const CutoutData& cutouts);
   gpu::Buffer vertices_;
   gpu::Buffer indices_;
-  gpu::Buffer uvs_;     // a texture coordinate per vertex (zero for meshes without); a word without cut-outs
+  gpu::Buffer uvs_;     // a texture coordinate per vertex (zero for meshes without); a word without any
   gpu::Buffer triangles_;  // the CutoutTriangles and ...
   gpu::Buffer texels_;     // ... the cut-out textures' alpha (core/cutouts.h), read through their addresses
   std::uint32_t indexCount_ = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> opaque_;  // first index and count of each run of opaque meshes
+  // First index and count of each run of opaque meshes, and of those of them without a colour texture.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> opaque_, plain_;
+  std::vector<TexturedDraw> textured_;
   std::vector<CutoutDraw> cutouts_;
   std::uint64_t version_ = 0;
 };

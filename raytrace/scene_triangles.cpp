@@ -1,6 +1,10 @@
 #include "raytrace/scene_triangles.h"
 
+#include <optional>
+
 #include <glm/gtc/packing.hpp>
+
+#include "core/texture.h"
 
 #include "shared/gbuffer.h"
 
@@ -13,9 +17,16 @@ glm::vec3 unpackNormal(std::uint32_t packed) { return shared::octahedralDecode(g
 std::vector<shared::SceneTriangle> sceneTriangles(const Scene& scene) {
   std::vector<shared::SceneTriangle> out;
   out.reserve(scene.triangleCount());
+  std::vector<std::optional<glm::vec3>> means(scene.textures.size());  // each colour texture's, once
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    const std::uint32_t albedo = glm::packUnorm4x8(glm::vec4(glm::clamp(mesh.baseColor, 0.0f, 1.0f), 1.0f));
+    glm::vec3 color = mesh.baseColor;
+    if (mesh.colorTexture >= 0) {
+      std::optional<glm::vec3>& mean = means.at(std::size_t(mesh.colorTexture));
+      if (!mean) mean = meanColor(scene.textures[std::size_t(mesh.colorTexture)]);
+      color *= *mean;
+    }
+    const std::uint32_t albedo = glm::packUnorm4x8(glm::vec4(glm::clamp(color, 0.0f, 1.0f), 1.0f));
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       shared::SceneTriangle tri{};
       const std::uint32_t* idx = &mesh.indices[3 * t];

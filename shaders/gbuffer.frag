@@ -3,4 +3,4 @@
 #include "shared/raster.h"
 layout(push_constant) uniform PushBlock { GBufferPush push; };
 #include "gbuffer_fragment.glsl"
-void main() { gbufferFragment(); }
+void main() { gbufferFragment(vec3(1.0)); }

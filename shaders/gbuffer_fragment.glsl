@@ -1,5 +1,5 @@
-// The camera pass's fragment stage (gbuffer.frag, gbuffer_cutout.frag). The includer declares the
-// push constants `push` (cameraPosition).
+// The camera pass's fragment stage (gbuffer.frag, gbuffer_textured.frag, gbuffer_cutout.frag). The
+// includer declares the push constants `push` (cameraPosition).
 #include "shared/gbuffer.h"
 layout(location = 0) in vec3 worldPosition;
 layout(location = 1) in vec3 worldNormal;
@@ -9,7 +9,8 @@ layout(location = GBUFFER_POSITION) out vec4 outPosition;
 layout(location = GBUFFER_NORMAL) out vec4 outNormal;
 layout(location = GBUFFER_ALBEDO) out vec4 outAlbedo;
 layout(location = GBUFFER_FACE_NORMAL) out uint outFaceNormal;
-void gbufferFragment() {
+// `texel`: the colour texture's, linear (white without one), times the mesh's base colour.
+void gbufferFragment(vec3 texel) {
   vec3 n = normalize(worldNormal);
   // Scenes are drawn two-sided: the shading normal faces the viewer.
   if (dot(n, push.cameraPosition.xyz - worldPosition) < 0.0) n = -n;
@@ -20,6 +21,6 @@ void gbufferFragment() {
   if (dot(face, fromCamera) > 0.0) face = -face;
   outPosition = vec4(worldPosition, 1.0);
   outNormal = vec4(n, 0.0);
-  outAlbedo = vec4(albedo, 1.0);
+  outAlbedo = vec4(albedo * texel, 1.0);
   outFaceNormal = packSnorm2x16(octahedralEncode(face));
 }

@@ -1,4 +1,4 @@
-// The camera pass's vertex stage (gbuffer.vert, gbuffer_cutout.vert): world-space attributes for
+// The camera pass's vertex stage (gbuffer.vert, gbuffer_textured.vert): world-space attributes for
 // the G-buffer. The includer declares the push constants `push` (viewProj, cameraPosition).
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;

@@ -53,7 +53,7 @@ struct CompactRig {
       : width(w),
         height(h),
         geometry(validatedContext(), courtyard()),
-        gbuffer(validatedContext(), w, h),
+        gbuffer(validatedContext(), courtyard(), w, h),
         pass(validatedContext(), w, h),
         flags(validatedContext(), CompactPass::inputBytes(w, h), vk::BufferUsageFlagBits::eStorageBuffer, "test flags"),
         rayMax(validatedContext(), CompactPass::inputBytes(w, h), vk::BufferUsageFlagBits::eStorageBuffer,
@@ -252,7 +252,7 @@ TEST(Compact, RejectsBadInput) {
   EXPECT_THROW(CompactPass(context, 65536, 65536), std::invalid_argument);
   CompactRig& s = rigFor(7, 5);
   const gpu::Buffer small(context, 16, vk::BufferUsageFlagBits::eStorageBuffer, "test small");
-  const raster::GBufferPass other(context, 5, 7);
+  const raster::GBufferPass other(context, Scene{}, 5, 7);
   auto recordWith = [&](const raster::GBufferPass& g, const gpu::Buffer& f, const gpu::Buffer& r, std::uint32_t mode) {
     context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { s.pass.record(cmd, g, f, r, s.frame, mode); });
   };
@@ -272,7 +272,7 @@ TEST(Compact, RefusesAListOverOneBuffer) {
   const std::uint32_t size = 256;
   ASSERT_GT(std::uint64_t(size) * size * sizeof(ShadingPoint), limited.maxBufferBytes());
   const CompactPass pass(limited, size, size);
-  const raster::GBufferPass gbuffer(limited, size, size);
+  const raster::GBufferPass gbuffer(limited, Scene{}, size, size);
   const gpu::Buffer input(limited, CompactPass::inputBytes(size, size), vk::BufferUsageFlagBits::eStorageBuffer, "test input");
   gpu::Buffer frame(limited, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "test frame");
   shared::FrameData data{};

@@ -1,6 +1,7 @@
-// Alpha-tested materials from glTF: the cut-out, its texture (embedded or beside the model) and
-// texture coordinates are loaded; images that cannot be read are a clear error, never a silent
-// solid mesh.
+// Textured materials from glTF, OBJ and assimp's formats. Alpha-tested ones: the cut-out, its
+// texture (embedded or beside the model) and texture coordinates are loaded; images that cannot be
+// read are a clear error, never a silent solid mesh. Colour textures: loaded the same way, and where
+// one cannot be read, a named warning (only colour is lost).
 #include <gtest/gtest.h>
 
 #include "core/cutouts.h"
@@ -111,6 +112,87 @@ TEST(CutoutLoading, ObjAlphaMapCutsOutItsMaterial) {
   EXPECT_EQ(s.meshes[0].uvs[0], glm::vec2(0.0f, 1.0f)) << "OBJ's v points up, the texture's rows down";
   writeFile(dir.file("b.obj"), quad + "usemtl gone\nf 1/1 2/2 3/3 4/4\n");
   expectInputError([&] { penumbra::loadScene(dir.file("b.obj")); }, {"absent.png", "could not be read"});
+}
+
+// An opaque glTF material's base colour texture is the mesh's colour texture, at its texCoord set;
+// one that cannot be decoded is a named warning and the mesh keeps its base colour.
+TEST(TextureLoading, GltfBaseColorTextureColoursAnOpaqueMesh) {
+  TempDir dir;
+  writeFile(dir.file("paint.png"), checkerPng(dir));
+  Bytes bin;
+  json doc = cutoutDoc(bin, "paint.png", "OPAQUE");
+  const Scene s = penumbra::loadScene(writeGltf(dir, doc, bin, "a"));
+  const penumbra::Mesh& m = s.meshes.at(0);
+  EXPECT_FALSE(m.cutout.has_value());
+  ASSERT_EQ(m.colorTexture, 0);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(m.uvs, (std::vector<glm::vec2>{{0, 0}, {1, 0}, {0, 1}}));
+  EXPECT_TRUE(s.warnings.empty());
+
+  writeFile(dir.file("broken.png"), std::string("not a png at all"));
+  bin.clear();
+  const Scene broken = penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "broken.png", "OPAQUE"), bin, "b"));
+  EXPECT_EQ(broken.meshes.at(0).colorTexture, -1);
+  ASSERT_EQ(broken.warnings.size(), 1u);
+  EXPECT_NE(broken.warnings[0].find("broken.png"), std::string::npos) << broken.warnings[0];
+  EXPECT_NE(broken.warnings[0].find("only colour"), std::string::npos) << broken.warnings[0];
+
+  // BLEND's alpha is a translucency: without its image the factor alone decides (with the warning).
+  bin.clear();
+  const Scene blend = penumbra::loadScene(writeGltf(dir, cutoutDoc(bin, "broken.png", "BLEND"), bin, "c"));
+  EXPECT_FALSE(blend.meshes.at(0).cutout.has_value()) << "alpha factor 1: solid";
+  EXPECT_EQ(blend.warnings.size(), 1u);
+}
+
+// OBJ's map_Kd: the colour texture, sharing the image with a map_d of the same name; a missing one
+// warns, where a missing map_d is an error (ObjAlphaMapCutsOutItsMaterial).
+TEST(TextureLoading, ObjDiffuseMapColoursItsMaterial) {
+  TempDir dir;
+  writeFile(dir.file("leaf.png"), checkerPng(dir));
+  writeFile(dir.file("m.mtl"), std::string("newmtl leaf\nmap_Kd leaf.png\nmap_d leaf.png\n"
+                                           "newmtl painted\nKd 0.5 0.5 0.5\nmap_Kd leaf.png\n"
+                                           "newmtl lost\nKd 0.2 0.3 0.4\nmap_Kd absent.png\n"));
+  const std::string quad = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+  writeFile(dir.file("a.obj"), quad + "o a\nusemtl leaf\nf 1/1 2/2 3/3 4/4\no b\nusemtl painted\nf 1/4 2/3 3/2 4/1\n"
+                                      "o c\nusemtl lost\nf 1/1 2/2 3/3 4/4\n");
+  const Scene s = penumbra::loadScene(dir.file("a.obj"));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  EXPECT_EQ(s.textures.size(), 1u) << "one image, decoded once";
+  EXPECT_EQ(s.meshes[0].colorTexture, 0);
+  ASSERT_TRUE(s.meshes[0].cutout.has_value());
+  EXPECT_EQ(s.meshes[0].cutout->texture, 0);
+  EXPECT_EQ(s.meshes[1].colorTexture, 0);
+  EXPECT_FALSE(s.meshes[1].cutout.has_value());
+  ASSERT_EQ(s.meshes[1].uvs.size(), 4u);
+  EXPECT_EQ(s.meshes[1].uvs[0], glm::vec2(0.0f, 0.0f)) << "vt 4 (0, 1) with v flipped";
+  EXPECT_EQ(s.meshes[2].colorTexture, -1);
+  EXPECT_EQ(s.meshes[2].baseColor, glm::vec3(0.2f, 0.3f, 0.4f));
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("absent.png"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("only colour is lost"), std::string::npos) << s.warnings[0];
+}
+
+// assimp's formats: a PLY whose header names its texture (and gives per-vertex s, t).
+TEST(TextureLoading, AssimpFormatsReadTheirTextures) {
+  TempDir dir;
+  writeFile(dir.file("paint.png"), checkerPng(dir));
+  const std::string header = "ply\nformat ascii 1.0\ncomment TextureFile paint.png\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nproperty float s\nproperty float t\nelement face 1\n"
+                             "property list uchar int vertex_indices\nend_header\n";
+  writeFile(dir.file("a.ply"), header + "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n");
+  const Scene s = penumbra::loadScene(dir.file("a.ply"));
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].colorTexture, 0);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].width, 2u);
+  EXPECT_EQ(s.meshes[0].uvs, (std::vector<glm::vec2>{{0, 1}, {1, 1}, {0, 0}})) << "v flipped: row 0 is the top";
+
+  writeFile(dir.file("b.ply"), std::string(header).replace(header.find("paint.png"), 9, "gone.png") +
+                                   "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n");
+  const Scene lost = penumbra::loadScene(dir.file("b.ply"));
+  EXPECT_EQ(lost.meshes.at(0).colorTexture, -1);
+  ASSERT_FALSE(lost.warnings.empty());
+  EXPECT_NE(lost.warnings[0].find("gone.png"), std::string::npos) << lost.warnings[0];
 }
 
 // The alpha ranges the thin-triangle pass reads (shared/alpha.h): every cell of every level holds

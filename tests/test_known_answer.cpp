@@ -149,6 +149,58 @@ TEST(KnownAnswer, ShadowHasTheCheckersHoles) {
   expectValidationSilent();
 }
 
+// The camera pass colours a mesh with its colour texture: builtin:square's ground textured with 8 x 1
+// texels, the left four red and the right four blue, over u = (x + 5) / 10. Away from the texels'
+// boundaries (and the repeat's seam at x = -5) the lit ground shows red at x in (-4, -1.5), blue at
+// x in (1.5, 4); the untextured ground is grey. The occluder, a cut-out, takes its checker texture
+// (RGB 200: a linear 0.58) as its colour and darkens. The shadows are the same as without colour.
+TEST(KnownAnswer, CameraPassColoursWithTheTexture) {
+  RenderSettings settings = smallSettings(128, 256);
+  Scene scene = loadScene("builtin:checker");
+  Texture paint{"red | blue", 8, 1, {}};
+  for (int x = 0; x < 8; ++x) paint.rgba.insert(paint.rgba.end(), {std::uint8_t(x < 4 ? 255 : 0), 0, std::uint8_t(x < 4 ? 0 : 255), 255});
+  scene.textures.push_back(paint);
+  Mesh& ground = scene.meshes.at(0);
+  ground.baseColor = glm::vec3(1.0f);
+  for (const glm::vec3& p : ground.positions) ground.uvs.push_back({(p.x + 5.0f) / 10.0f, (p.z + 5.0f) / 10.0f});
+  SceneRun plain(scene, settings);
+  const Frame grey = plain.render("sm");
+  ground.colorTexture = 1;
+  scene.meshes.at(1).colorTexture = 0;
+  SceneRun run(scene, settings);
+  const Frame coloured = run.render("sm");
+  const std::vector<glm::vec4> positions = run.renderer->frameContext().gbuffer().positions();
+  int red = 0, blue = 0, greyGround = 0, occluder = 0, wrong = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (!coloured.covered[i] || coloured.visibility[i] < 0.5f) continue;
+    const glm::vec3 p(positions[i]);
+    const std::uint8_t* c = &coloured.rgba[4 * i];
+    const std::uint8_t* g = &grey.rgba[4 * i];
+    if (p.y > 0.5f) {  // the occluder's top
+      ++occluder;
+      wrong += !(c[0] < g[0] && c[0] > g[0] / 2);
+      continue;
+    }
+    greyGround += std::abs(int(g[0]) - int(g[2])) <= 8;
+    if (p.x > -4.0f && p.x < -1.5f) {
+      ++red;
+      wrong += !(c[0] > 40 && c[2] == 0);
+    } else if (p.x > 1.5f && p.x < 4.0f) {
+      ++blue;
+      wrong += !(c[2] > 40 && c[0] == 0);
+    }
+  }
+  std::printf("textured ground: %d red, %d blue pixels, %d wrong; occluder %d; %d grey without the texture\n", red, blue,
+              wrong, occluder, greyGround);
+  EXPECT_GT(red, 300);
+  EXPECT_GT(blue, 300);
+  EXPECT_GT(occluder, 100);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(greyGround, red + blue) << "the ground without its texture is grey";
+  EXPECT_EQ(coloured.visibility, grey.visibility) << "colour does not change the shadows";
+  expectValidationSilent();
+}
+
 // A 64 x 64 checker under a 256^2 map: a texel (0.055) spans about two cells (0.031), so the map
 // cannot show the holes and sm shadows many of them whole. Every cut-out triangle is in the thin
 // mask, so srt traces the receivers behind it and stays exact (the known failure of a map:

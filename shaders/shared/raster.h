@@ -24,6 +24,8 @@ PN_BEGIN
 #define SHADE_BINDING_COLOR 5       // packed RGBA8 per pixel, written
 #define SHADE_BINDING_INDIRECT 6    // vec4 per pixel: rgb one-bounce light, a occlusion
 
+#define GBUFFER_BINDING_COLOR 0  // gbuffer_textured.frag, gbuffer_cutout.frag: the mesh's colour texture (sampled)
+
 struct GBufferPush {  // 80 bytes
   mat4 viewProj;
   vec4 cameraPosition;  // xyz; the face normal comes from positions relative to it (small numbers, precise derivatives)
@@ -33,9 +35,10 @@ struct ShadowMapPush {  // 64 bytes
   mat4 viewProj;
 };
 
-// The cut-out meshes' draws in the camera and light passes (gbuffer_cutout.*, shadow_map_cutout.*),
+// The cut-out meshes' draws in the camera and light passes (gbuffer_cutout.frag, shadow_map_cutout.*),
 // 112 bytes: the pass's matrix (and camera), and the mesh's cut-out (shared/alpha.h) with its
-// texture in the alpha words at device address `texels`.
+// texture in the alpha words at device address `texels`. The camera pass's textured draws
+// (gbuffer_textured.*) take it too, with only the matrix and camera set.
 struct CutoutDrawPush {
   mat4 viewProj;
   vec4 cameraPosition;  // the camera pass's
