@@ -3,8 +3,9 @@
 # (leaf cards) and football goal (a net), default and close views, hard and soft (disk light, 16
 # samples): sm, srt (the paper's path) and frt against the alpha-aware Embree reference; then the
 # cost of alpha testing: frt on each exact tracer (bvh, rq where the device has ray queries, Embree)
-# on the goal with its net cut out and with the same net opaque (its map_d dropped).
-# Writes bench/results/alpha.csv (REPEAT frames, median) and alpha.machine.txt.
+# on the goal with its net cut out and with the same net opaque (its map_d dropped); and the time
+# to load a textured model's images.
+# Writes bench/results/alpha.csv (REPEAT frames, median), alpha_load.csv and alpha.machine.txt.
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh" alpha
 S=bench/scenes
 [ -f "$S/bush/bush_stage.obj" ] && [ -f "$S/goal/goal_stage.obj" ] || { echo "alpha: run bench/fetch_scenes.sh first" >&2; exit 1; }
@@ -15,8 +16,10 @@ for res in 512x512 1024x1024; do
   RES=$res bench_compare "bush default $res hard" "${bush[@]}"
   RES=$res bench_compare "bush close $res hard" "${bush[@]}" "${close_bush[@]}"
 done
-RES=512x512 bench_compare "bush default 512 soft" "${bush[@]}" "${soft[@]}"
-RES=512x512 bench_compare "bush close 512 soft" "${bush[@]}" "${close_bush[@]}" "${soft[@]}"
+for res in 512x512 1024x1024; do
+  RES=$res bench_compare "bush default $res soft" "${bush[@]}" "${soft[@]}"
+  RES=$res bench_compare "bush close $res soft" "${bush[@]}" "${close_bush[@]}" "${soft[@]}"
+done
 
 # The goal with an opaque net: the same OBJ beside a material library without map_d.
 opaque=$S/goal/opaque
@@ -37,4 +40,26 @@ for tracer in $tracers; do
     done
   done
 done
+# Loading a textured model: the Truman (FlightGear) with its PNG textures beside it, and the same
+# glb alone (its images missing: colour lost, with warnings); load_ms of `render` (reading, decoding
+# and cleaning), REPEAT runs each, into alpha_load.csv.
+bare=$S/truman/bare
+mkdir -p "$bare"
+cp "$S/truman/truman.glb" "$bare/"
+load_csv=bench/results/alpha_load.csv
+echo "scene,images,run,load_ms,images_mb" >"$load_csv"
+for images in beside missing; do
+  scene=$S/truman/truman.glb
+  [ "$images" = missing ] && scene=$bare/truman.glb
+  for run in $(seq "$REPEAT"); do
+    out=$(mktemp -d)
+    ./build/bin/penumbra render --scene "$scene" --method sm --res 256x256 --out "$out" >/dev/null
+    mb=$( (du -cm "$(dirname "$scene")"/*.png 2>/dev/null || true) | tail -1 | cut -f1)
+    /usr/bin/python3 -c "import json,sys; print('truman,$images,$run,%.1f,${mb:-0}' % json.load(open(sys.argv[1]))['context']['load_ms'])" \
+      "$out/sm.stats.json" >>"$load_csv"
+    rm -rf "$out"
+  done
+done
+cat "$load_csv"
+
 bench_done
