@@ -1,25 +1,25 @@
 #include "apps/run_config.h"
 
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <thread>
-#include <cstdio>
-#include <iomanip>
-#include <sstream>
-
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <thread>
+
+#include "apps/declared_options.h"
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
-#include "raster/color_textures.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
-#include "apps/declared_options.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
+#include "raster/color_textures.h"
 #include "raytrace/ntree_builder.h"
 
 namespace penumbra {

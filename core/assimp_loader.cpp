@@ -6,8 +6,8 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <assimp/Importer.hpp>
 #include <algorithm>
+#include <assimp/Importer.hpp>
 #include <filesystem>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <map>
@@ -92,7 +92,8 @@ struct MaterialImages {
       aiString name;
       aiTextureMapping mapping = aiTextureMapping_UV;
       unsigned uvSet = 0;
-      if (material.GetTextureCount(type) == 0 || material.GetTexture(type, 0, &name, &mapping, &uvSet) != AI_SUCCESS) continue;
+      if (material.GetTextureCount(type) == 0 || material.GetTexture(type, 0, &name, &mapping, &uvSet) != AI_SUCCESS)
+        continue;
       if (mapping != aiTextureMapping_UV) {
         scene.warnings.push_back("material '" + std::string(material.GetName().C_Str()) + "' projects its image '" +
                                  name.C_Str() + "' (not by texture coordinates); ignored");
@@ -118,10 +119,12 @@ struct MaterialImages {
     const aiTexture* embedded = ai.GetEmbeddedTexture(name.c_str());
     if (!embedded) return readTexture(folder, name, path);
     if (embedded->mHeight == 0) {  // compressed: mWidth bytes of PNG, JPEG, ...
-      return decodeTexture({reinterpret_cast<const std::uint8_t*>(embedded->pcData), embedded->mWidth}, path + ": " + name);
+      return decodeTexture({reinterpret_cast<const std::uint8_t*>(embedded->pcData), embedded->mWidth},
+                           path + ": " + name);
     }
     if (embedded->mWidth > kMaxTextureSide || embedded->mHeight > kMaxTextureSide) {
-      fail(path, "embedded image '" + name + "' is over " + std::to_string(kMaxTextureSide) + " texels a side", "downscale it");
+      fail(path, "embedded image '" + name + "' is over " + std::to_string(kMaxTextureSide) + " texels a side",
+           "downscale it");
     }
     Texture t{path + ": " + name, embedded->mWidth, embedded->mHeight, {}};
     t.rgba.reserve(std::size_t(t.width) * t.height * 4);
@@ -137,7 +140,8 @@ struct MaterialImages {
 std::vector<glm::vec2> textureCoordinates(const aiMesh& mesh, unsigned set) {
   std::vector<glm::vec2> uvs;
   if (set >= AI_MAX_NUMBER_OF_TEXTURECOORDS || !mesh.mTextureCoords[set]) return uvs;
-  for (unsigned v = 0; v < mesh.mNumVertices; ++v) uvs.emplace_back(mesh.mTextureCoords[set][v].x, 1.0f - mesh.mTextureCoords[set][v].y);
+  for (unsigned v = 0; v < mesh.mNumVertices; ++v)
+    uvs.emplace_back(mesh.mTextureCoords[set][v].x, 1.0f - mesh.mTextureCoords[set][v].y);
   return uvs;
 }
 
@@ -204,7 +208,8 @@ Scene loadAssimp(const std::string& path) {
       if (src->mMaterialIndex < ai->mNumMaterials) {
         const aiMaterial& material = *ai->mMaterials[src->mMaterialIndex];
         aiColor4D colour;
-        if (material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS) mesh.baseColor = {colour.r, colour.g, colour.b};
+        if (material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
+          mesh.baseColor = {colour.r, colour.g, colour.b};
         // The colour's image: where it cannot be had, a warning (once; only colour is lost).
         std::optional<unsigned> colorSet;
         try {
@@ -221,7 +226,8 @@ Scene loadAssimp(const std::string& path) {
         }
         if (const auto image = images.find(material, {aiTextureType_OPACITY})) {
           if (colorSet && *colorSet != image->uvSet) {
-            scene.warnings.push_back("mesh '" + mesh.name + "': its opacity and colour images use different texture "
+            scene.warnings.push_back("mesh '" + mesh.name +
+                                     "': its opacity and colour images use different texture "
                                      "coordinate sets; the opacity's is used for both");
           }
           mesh.uvs = textureCoordinates(*src, image->uvSet);

@@ -1,6 +1,7 @@
 // glTF 2.0 loader. Files are untrusted: the GLB container is validated before tinygltf sees it,
 // external files are confined to the model's folder, and every accessor is bounds-checked.
 #include <dlfcn.h>
+#include <tiny_gltf.h>  // implementation lives in the shared libtinygltf
 
 #include <algorithm>
 #include <atomic>
@@ -10,20 +11,18 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <iterator>
-#include <limits>
-#include <map>
-#include <optional>
-#include <set>
-#include <thread>
-#include <variant>
-
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <iterator>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
-#include <tiny_gltf.h>  // implementation lives in the shared libtinygltf
+#include <optional>
+#include <set>
+#include <thread>
+#include <variant>
 
 #include "core/gltf_accessor.h"
 #include "core/gltf_animation.h"
@@ -177,7 +176,7 @@ struct Converter {
   std::vector<LightNode> lightNodes;
   std::optional<glm::dmat4> cameraWorld;
   std::map<int, std::int32_t> imageTexture;  // glTF image -> Scene::textures index, once decoded
-  std::set<int> warnedTextures;               // colour textures that could not be had, warned of once
+  std::set<int> warnedTextures;              // colour textures that could not be had, warned of once
   std::map<int, std::variant<Texture, std::string>> decoded;  // glTF image -> its texture or error (decodeImages)
   std::uint64_t textureBytes = 0;
   float yfov = 0.0f;
@@ -278,7 +277,8 @@ struct Converter {
         const int t = model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index;
         if (t < 0 || std::size_t(t) >= model.textures.size()) continue;
         const int source = model.textures[std::size_t(t)].source;
-        if (source >= 0 && std::size_t(source) < model.images.size() && !model.images[std::size_t(source)].image.empty()) {
+        if (source >= 0 && std::size_t(source) < model.images.size() &&
+            !model.images[std::size_t(source)].image.empty()) {
           sources.push_back(source);
         }
       }
@@ -297,7 +297,8 @@ struct Converter {
         }
       }
     };
-    std::vector<std::jthread> workers(std::min<std::size_t>(sources.size(), std::max(1u, std::thread::hardware_concurrency())));
+    std::vector<std::jthread> workers(
+        std::min<std::size_t>(sources.size(), std::max(1u, std::thread::hardware_concurrency())));
     for (std::jthread& w : workers) w = std::jthread(work);
     workers.clear();  // joins
     for (std::size_t i = 0; i < sources.size(); ++i) decoded.emplace(sources[i], std::move(results[i]));
@@ -313,7 +314,7 @@ struct Converter {
 
   std::string imageName(int source) const {
     const tinygltf::Image& image = model.images[std::size_t(source)];
-    return !image.uri.empty() ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source) : image.uri)
+    return !image.uri.empty()    ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source) : image.uri)
            : !image.name.empty() ? image.name
                                  : "image " + std::to_string(source);
   }
@@ -327,7 +328,8 @@ struct Converter {
     } catch (const InputError& e) {
       if (required) throw;
       if (warnedTextures.insert(index).second) {
-        scene.warnings.push_back(std::string(e.what()) + " (only colour and translucency are lost: drawn in its base colour)");
+        scene.warnings.push_back(std::string(e.what()) +
+                                 " (only colour and translucency are lost: drawn in its base colour)");
       }
       return -1;
     }

@@ -92,7 +92,8 @@ struct Images {
     try {
       return (*this)(name);
     } catch (const InputError& e) {
-      if (loaded.emplace(name, -1).second) scene.warnings.push_back(std::string(e.what()) + " (only colour is lost: Kd alone drawn)");
+      if (loaded.emplace(name, -1).second)
+        scene.warnings.push_back(std::string(e.what()) + " (only colour is lost: Kd alone drawn)");
       return -1;
     }
   }
@@ -183,7 +184,8 @@ Scene loadObj(const std::string& path) {
       std::uint32_t index = next;
       bool inserted = true;
       if (withUv) {
-        const auto [at, added] = part.texturedRemap.try_emplace({idx.vertex_index, idx.normal_index, idx.texcoord_index}, next);
+        const auto [at, added] =
+            part.texturedRemap.try_emplace({idx.vertex_index, idx.normal_index, idx.texcoord_index}, next);
         index = at->second;
         inserted = added;
       } else {

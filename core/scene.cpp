@@ -100,7 +100,8 @@ void cleanTextures(Mesh& mesh, std::size_t textures, std::vector<std::string>& w
   }
   if (mesh.colorTexture >= 0 && (std::size_t(mesh.colorTexture) >= textures || mesh.uvs.empty())) {
     warnings.push_back("mesh '" + mesh.name + "': its colour texture " +
-                       (mesh.uvs.empty() ? "has no texture coordinates" : "is missing") + "; its base colour alone is drawn");
+                       (mesh.uvs.empty() ? "has no texture coordinates" : "is missing") +
+                       "; its base colour alone is drawn");
     mesh.colorTexture = -1;
   }
   if (!mesh.cutout) return;

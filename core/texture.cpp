@@ -54,11 +54,13 @@ Texture decodeTexture(std::span<const std::uint8_t> encoded, const std::string& 
 Texture readTexture(const std::string& folder, const std::string& name, const std::string& model) {
   const std::string why = confinedPathProblem(folder, name);
   if (!why.empty()) {
-    throw InputError("'" + model + "': image '" + name + "' is outside the model's folder (" + why + "); copy it beside the model");
+    throw InputError("'" + model + "': image '" + name + "' is outside the model's folder (" + why +
+                     "); copy it beside the model");
   }
   std::ifstream in(std::filesystem::path(folder) / name, std::ios::binary);
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (!in.is_open() || in.bad()) throw InputError("'" + model + "': image '" + name + "' could not be read; put it beside the model");
+  if (!in.is_open() || in.bad())
+    throw InputError("'" + model + "': image '" + name + "' could not be read; put it beside the model");
   int channels = 0;
   Texture t = decodeTexture(bytes, model + ": " + name, &channels);
   if (channels == 1 || channels == 3) {

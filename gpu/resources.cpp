@@ -37,7 +37,8 @@ std::uint32_t bytesPerTexel(vk::Format format) {
   switch (format) {
     case vk::Format::eR32G32B32A32Sfloat: return 16;
     case vk::Format::eR8G8B8A8Unorm: return 4;
-    case vk::Format::eR8G8B8A8Srgb: return 4;
+    case vk::Format::eR8G8B8A8Srgb:
+      return 4;
     case vk::Format::eD32Sfloat: return 4;
     case vk::Format::eR32Sfloat: return 4;
     case vk::Format::eR32Uint: return 4;
@@ -87,16 +88,17 @@ vk::DeviceSize Image::bytes() const {
 }
 
 void transition(const vk::raii::CommandBuffer& cmd, const Image& image, const Transition& t) {
-  const vk::ImageMemoryBarrier2 barrier{.srcStageMask = t.srcStage,
-                                        .srcAccessMask = t.srcAccess,
-                                        .dstStageMask = t.dstStage,
-                                        .dstAccessMask = t.dstAccess,
-                                        .oldLayout = t.from,
-                                        .newLayout = t.to,
-                                        .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                        .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                        .image = image.handle(),
-                                        .subresourceRange = {image.aspect(), 0, image.desc().mipLevels, 0, image.desc().layers}};
+  const vk::ImageMemoryBarrier2 barrier{
+      .srcStageMask = t.srcStage,
+      .srcAccessMask = t.srcAccess,
+      .dstStageMask = t.dstStage,
+      .dstAccessMask = t.dstAccess,
+      .oldLayout = t.from,
+      .newLayout = t.to,
+      .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+      .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+      .image = image.handle(),
+      .subresourceRange = {image.aspect(), 0, image.desc().mipLevels, 0, image.desc().layers}};
   cmd.pipelineBarrier2({.imageMemoryBarrierCount = 1, .pImageMemoryBarriers = &barrier});
 }
 

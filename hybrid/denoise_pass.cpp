@@ -16,15 +16,22 @@ static_assert(sizeof(shared::DenoiseAccumulatePush) == 112 && sizeof(shared::Den
               "std430 layout of shared/denoise.h");
 
 using Type = vk::DescriptorType;
-constexpr gpu::Binding kAccumulateBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
-                                                {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
-                                                {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
-                                                {6, Type::eStorageBuffer}, {7, Type::eStorageBuffer},
-                                                {8, Type::eStorageBuffer}};
-constexpr gpu::Binding kSpatialBindings[] = {{0, Type::eStorageImage},  {1, Type::eStorageImage},
-                                             {2, Type::eStorageBuffer}, {3, Type::eStorageBuffer},
-                                             {4, Type::eStorageBuffer}, {5, Type::eStorageBuffer},
-                                             {6, Type::eStorageBuffer}};
+constexpr gpu::Binding kAccumulateBindings[] = {{DENOISE_ACCUMULATE_BINDING_POSITION, Type::eStorageImage},
+                                                {DENOISE_ACCUMULATE_BINDING_NORMAL, Type::eStorageImage},
+                                                {DENOISE_ACCUMULATE_BINDING_FRAME, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_VISIBILITY, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_FLAGS, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_HISTORY_IN, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_HISTORY_OUT, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_ACCUMULATED, Type::eStorageBuffer},
+                                                {DENOISE_ACCUMULATE_BINDING_BLOCKERS, Type::eStorageBuffer}};
+constexpr gpu::Binding kSpatialBindings[] = {{DENOISE_SPATIAL_BINDING_POSITION, Type::eStorageImage},
+                                             {DENOISE_SPATIAL_BINDING_NORMAL, Type::eStorageImage},
+                                             {DENOISE_SPATIAL_BINDING_FRAME, Type::eStorageBuffer},
+                                             {DENOISE_SPATIAL_BINDING_ACCUMULATED, Type::eStorageBuffer},
+                                             {DENOISE_SPATIAL_BINDING_FLAGS, Type::eStorageBuffer},
+                                             {DENOISE_SPATIAL_BINDING_BLOCKERS, Type::eStorageBuffer},
+                                             {DENOISE_SPATIAL_BINDING_VISIBILITY, Type::eStorageBuffer}};
 
 vk::DeviceSize pixels(std::uint32_t width, std::uint32_t height) { return vk::DeviceSize(width) * height; }
 
@@ -82,15 +89,15 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                        in.view.viewProj != previousViewProj_;
   gpu::computeToComputeAndHost(cmd);  // the trace's visibility and blocker distances
   accumulate_.bind(cmd, gpu::Descriptors{}
-                            .storageImage(0, in.gbuffer.position().view())
-                            .storageImage(1, in.gbuffer.normal().view())
-                            .buffer(2, in.frameData)
-                            .buffer(3, in.visibility)
-                            .buffer(4, in.flags)
-                            .buffer(5, history_[current_])
-                            .buffer(6, history_[next])
-                            .buffer(7, accumulated_)
-                            .buffer(8, in.blockers));
+                            .storageImage(DENOISE_ACCUMULATE_BINDING_POSITION, in.gbuffer.position().view())
+                            .storageImage(DENOISE_ACCUMULATE_BINDING_NORMAL, in.gbuffer.normal().view())
+                            .buffer(DENOISE_ACCUMULATE_BINDING_FRAME, in.frameData)
+                            .buffer(DENOISE_ACCUMULATE_BINDING_VISIBILITY, in.visibility)
+                            .buffer(DENOISE_ACCUMULATE_BINDING_FLAGS, in.flags)
+                            .buffer(DENOISE_ACCUMULATE_BINDING_HISTORY_IN, history_[current_])
+                            .buffer(DENOISE_ACCUMULATE_BINDING_HISTORY_OUT, history_[next])
+                            .buffer(DENOISE_ACCUMULATE_BINDING_ACCUMULATED, accumulated_)
+                            .buffer(DENOISE_ACCUMULATE_BINDING_BLOCKERS, in.blockers));
   // The history follows the shadows of a light that moved (denoise_accumulate.comp's shadowBefore).
   const bool followLight = settings.followShadows && historyValid_ && in.light.type == previousLight_.type;
   accumulate_.pushConstants(cmd, shared::DenoiseAccumulatePush{.previousViewProj = previousViewProj_,
@@ -104,13 +111,13 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
   cmd.dispatch(groupsX, groupsY, 1);
   gpu::computeToComputeAndHost(cmd);
   spatial_.bind(cmd, gpu::Descriptors{}
-                         .storageImage(0, in.gbuffer.position().view())
-                         .storageImage(1, in.gbuffer.normal().view())
-                         .buffer(2, in.frameData)
-                         .buffer(3, accumulated_)
-                         .buffer(4, in.flags)
-                         .buffer(5, in.blockers)
-                         .buffer(6, in.visibility));
+                         .storageImage(DENOISE_SPATIAL_BINDING_POSITION, in.gbuffer.position().view())
+                         .storageImage(DENOISE_SPATIAL_BINDING_NORMAL, in.gbuffer.normal().view())
+                         .buffer(DENOISE_SPATIAL_BINDING_FRAME, in.frameData)
+                         .buffer(DENOISE_SPATIAL_BINDING_ACCUMULATED, accumulated_)
+                         .buffer(DENOISE_SPATIAL_BINDING_FLAGS, in.flags)
+                         .buffer(DENOISE_SPATIAL_BINDING_BLOCKERS, in.blockers)
+                         .buffer(DENOISE_SPATIAL_BINDING_VISIBILITY, in.visibility));
   spatial_.pushConstants(cmd, shared::DenoiseSpatialPush{.pixelScale = pixelScale,
                                                          .maxRadius = settings.maxRadius,
                                                          .targetSamples = settings.targetSamples,

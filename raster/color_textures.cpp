@@ -10,7 +10,9 @@ namespace {
 
 constexpr vk::Format kFormat = vk::Format::eR8G8B8A8Srgb;
 
-std::uint32_t mipLevels(std::uint32_t width, std::uint32_t height) { return std::bit_width(std::max({width, height, 1u})); }
+std::uint32_t mipLevels(std::uint32_t width, std::uint32_t height) {
+  return std::bit_width(std::max({width, height, 1u}));
+}
 
 // Whether some mesh draws with scene texture `t` as its colour.
 std::vector<char> colorTextures(const Scene& scene) {
@@ -27,16 +29,17 @@ void barrier(const vk::raii::CommandBuffer& cmd, const gpu::Image& image, std::u
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
   const bool toShader = to == vk::ImageLayout::eShaderReadOnlyOptimal;
-  const vk::ImageMemoryBarrier2 b{.srcStageMask = Stage::eAllTransfer,
-                                  .srcAccessMask = Access::eTransferWrite,
-                                  .dstStageMask = toShader ? Stage::eFragmentShader : Stage::eAllTransfer,
-                                  .dstAccessMask = toShader ? Access::eShaderSampledRead : Access::eTransferRead | Access::eTransferWrite,
-                                  .oldLayout = from,
-                                  .newLayout = to,
-                                  .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                  .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
-                                  .image = image.handle(),
-                                  .subresourceRange = {vk::ImageAspectFlagBits::eColor, first, count, 0, 1}};
+  const vk::ImageMemoryBarrier2 b{
+      .srcStageMask = Stage::eAllTransfer,
+      .srcAccessMask = Access::eTransferWrite,
+      .dstStageMask = toShader ? Stage::eFragmentShader : Stage::eAllTransfer,
+      .dstAccessMask = toShader ? Access::eShaderSampledRead : Access::eTransferRead | Access::eTransferWrite,
+      .oldLayout = from,
+      .newLayout = to,
+      .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+      .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+      .image = image.handle(),
+      .subresourceRange = {vk::ImageAspectFlagBits::eColor, first, count, 0, 1}};
   cmd.pipelineBarrier2({.imageMemoryBarrierCount = 1, .pImageMemoryBarriers = &b});
 }
 
@@ -53,19 +56,22 @@ void recordUpload(const vk::raii::CommandBuffer& cmd, const gpu::Image& image, c
   for (std::uint32_t level = 1; level < levels.count; ++level) {
     barrier(cmd, image, level - 1, 1, vk::ImageLayout::eTransferDstOptimal, vk::ImageLayout::eTransferSrcOptimal);
     const auto corner = [&](std::uint32_t l) {
-      return vk::Offset3D{std::int32_t(std::max(levels.width >> l, 1u)), std::int32_t(std::max(levels.height >> l, 1u)), 1};
+      return vk::Offset3D{std::int32_t(std::max(levels.width >> l, 1u)), std::int32_t(std::max(levels.height >> l, 1u)),
+                          1};
     };
     const vk::ImageBlit blit{.srcSubresource = {vk::ImageAspectFlagBits::eColor, level - 1, 0, 1},
                              .srcOffsets = std::array{vk::Offset3D{0, 0, 0}, corner(level - 1)},
                              .dstSubresource = {vk::ImageAspectFlagBits::eColor, level, 0, 1},
                              .dstOffsets = std::array{vk::Offset3D{0, 0, 0}, corner(level)}};
-    cmd.blitImage(image.handle(), vk::ImageLayout::eTransferSrcOptimal, image.handle(), vk::ImageLayout::eTransferDstOptimal,
-                  blit, vk::Filter::eLinear);
+    cmd.blitImage(image.handle(), vk::ImageLayout::eTransferSrcOptimal, image.handle(),
+                  vk::ImageLayout::eTransferDstOptimal, blit, vk::Filter::eLinear);
   }
   if (levels.count > 1) {
-    barrier(cmd, image, 0, levels.count - 1, vk::ImageLayout::eTransferSrcOptimal, vk::ImageLayout::eShaderReadOnlyOptimal);
+    barrier(cmd, image, 0, levels.count - 1, vk::ImageLayout::eTransferSrcOptimal,
+            vk::ImageLayout::eShaderReadOnlyOptimal);
   }
-  barrier(cmd, image, levels.count - 1, 1, vk::ImageLayout::eTransferDstOptimal, vk::ImageLayout::eShaderReadOnlyOptimal);
+  barrier(cmd, image, levels.count - 1, 1, vk::ImageLayout::eTransferDstOptimal,
+          vk::ImageLayout::eShaderReadOnlyOptimal);
 }
 
 }  // namespace
@@ -92,10 +98,14 @@ ColorTextures::ColorTextures(const gpu::Context& context, const Scene& scene)
   std::vector<gpu::Buffer> staging;
   staging.reserve(sources.size());
   for (const Texture* t : sources) {
-    const vk::ImageUsageFlags usage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst |
-                                      vk::ImageUsageFlagBits::eTransferSrc;
-    images_.emplace_back(context, gpu::ImageDesc{.format = kFormat, .width = t->width, .height = t->height, .usage = usage,
-                                                 .name = "colour texture " + t->name, .mipLevels = mipLevels(t->width, t->height)});
+    const vk::ImageUsageFlags usage =
+        vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst | vk::ImageUsageFlagBits::eTransferSrc;
+    images_.emplace_back(context, gpu::ImageDesc{.format = kFormat,
+                                                 .width = t->width,
+                                                 .height = t->height,
+                                                 .usage = usage,
+                                                 .name = "colour texture " + t->name,
+                                                 .mipLevels = mipLevels(t->width, t->height)});
     staging.push_back(gpu::uploadedBuffer(context, std::span(t->rgba), vk::BufferUsageFlagBits::eTransferSrc,
                                           "colour texture staging"));
   }

@@ -20,7 +20,7 @@ class ColorTextures {
   vk::DeviceSize bytes() const;
 
  private:
-  std::vector<gpu::Image> images_;     // [0]: white
+  std::vector<gpu::Image> images_;      // [0]: white
   std::vector<std::uint32_t> imageOf_;  // per scene texture: its image, 0 for those no mesh colours with
   vk::raii::Sampler sampler_;
 };

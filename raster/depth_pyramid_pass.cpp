@@ -5,11 +5,11 @@
 namespace penumbra::raster {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eCombinedImageSampler},
-                                      {1, vk::DescriptorType::eCombinedImageSampler},
-                                      {2, vk::DescriptorType::eStorageBuffer},
-                                      {3, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kBindings[] = {{PYRAMID_BINDING_SHADOW_MAP, vk::DescriptorType::eCombinedImageSampler},
+                                      {PYRAMID_BINDING_THIN_MASK, vk::DescriptorType::eCombinedImageSampler},
+                                      {PYRAMID_BINDING_TILES, vk::DescriptorType::eStorageBuffer},
+                                      {PYRAMID_BINDING_SHADOW_TEXELS, vk::DescriptorType::eStorageBuffer},
+                                      {PYRAMID_BINDING_THIN_TEXELS, vk::DescriptorType::eStorageBuffer}};
 
 static_assert(sizeof(shared::PyramidPush) == 48, "PyramidPush must match std430 in shared/pyramid.h");
 
@@ -39,13 +39,14 @@ void DepthPyramidPass::record(const vk::raii::CommandBuffer& cmd, const ShadowMa
                               const shared::ShadowMapInfo& info, float deltaThreshold) const {
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin));
-  pipeline.bind(cmd, gpu::Descriptors{}
-                         .sampledImage(0, shadowMap.depth().view(), shadowMap.sampler())
-                         .sampledImage(1, thin ? thin->depth().view() : shadowMap.depth().view(),
-                                       thin ? thin->sampler() : shadowMap.sampler())
-                         .buffer(2, tiles_)
-                         .buffer(3, shadowMap.texels())
-                         .buffer(4, thin ? thin->texels() : shadowMap.texels()));
+  pipeline.bind(cmd,
+                gpu::Descriptors{}
+                    .sampledImage(PYRAMID_BINDING_SHADOW_MAP, shadowMap.depth().view(), shadowMap.sampler())
+                    .sampledImage(PYRAMID_BINDING_THIN_MASK, thin ? thin->depth().view() : shadowMap.depth().view(),
+                                  thin ? thin->sampler() : shadowMap.sampler())
+                    .buffer(PYRAMID_BINDING_TILES, tiles_)
+                    .buffer(PYRAMID_BINDING_SHADOW_TEXELS, shadowMap.texels())
+                    .buffer(PYRAMID_BINDING_THIN_TEXELS, thin ? thin->texels() : shadowMap.texels()));
   for (std::uint32_t level = 1; level <= levels_; ++level) {
     pipeline.pushConstants(cmd, shared::PyramidPush{.level = level,
                                                     .resolution = resolution_,

@@ -25,8 +25,9 @@ gpu::GraphicsPipelineDesc pipelineDesc(Draws draws) {
   using Spirv = std::span<const std::uint32_t>;
   gpu::GraphicsPipelineDesc d;
   d.vertexSpirv = draws == Draws::Plain ? Spirv(gbuffer_vert) : Spirv(gbuffer_textured_vert);
-  d.fragmentSpirv = draws == Draws::Plain ? Spirv(gbuffer_frag) : draws == Draws::Textured ? Spirv(gbuffer_textured_frag)
-                                                                                         : Spirv(gbuffer_cutout_frag);
+  d.fragmentSpirv = draws == Draws::Plain      ? Spirv(gbuffer_frag)
+                    : draws == Draws::Textured ? Spirv(gbuffer_textured_frag)
+                                               : Spirv(gbuffer_cutout_frag);
   d.vertexBindings = {{.binding = 0, .stride = sizeof(RasterVertex), .inputRate = vk::VertexInputRate::eVertex}};
   d.vertexAttributes = {{0, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, position)},
                         {1, 0, vk::Format::eR32G32B32Sfloat, offsetof(RasterVertex, normal)},
@@ -34,8 +35,9 @@ gpu::GraphicsPipelineDesc pipelineDesc(Draws draws) {
   d.colorFormats = {kPositionFormat, kNormalFormat, kAlbedoFormat, kFaceNormalFormat};  // GBUFFER_POSITION, _NORMAL, _ALBEDO, _FACE_NORMAL
   d.depthCompare = vk::CompareOp::eGreater;  // reversed depth (ViewMatrices::reversedDepthViewProj)
   d.pushConstantBytes = draws == Draws::Plain ? sizeof(shared::GBufferPush) : sizeof(shared::CutoutDrawPush);
-  d.name = draws == Draws::Plain ? "gbuffer pipeline" : draws == Draws::Textured ? "gbuffer textured pipeline"
-                                                                                 : "gbuffer cutout pipeline";
+  d.name = draws == Draws::Plain      ? "gbuffer pipeline"
+           : draws == Draws::Textured ? "gbuffer textured pipeline"
+                                      : "gbuffer cutout pipeline";
   if (draws != Draws::Plain) {
     readTextureCoordinates(d);
     d.bindings = {{GBUFFER_BINDING_COLOR, vk::DescriptorType::eCombinedImageSampler}};
@@ -48,10 +50,13 @@ gpu::GraphicsPipelineDesc pipelineDesc(Draws draws) {
 GBufferPass::GBufferPass(const gpu::Context& context, const Scene& scene, std::uint32_t width, std::uint32_t height)
     : width_(width),
       height_(height),
-      position_(context, {kPositionFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer position"}),
-      normal_(context, {kNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer normal"}),
+      position_(context, {kPositionFormat, width, height, 1,
+                          Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer position"}),
+      normal_(context, {kNormalFormat, width, height, 1,
+                        Usage::eColorAttachment | Usage::eStorage | Usage::eTransferSrc, "gbuffer normal"}),
       albedo_(context, {kAlbedoFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage, "gbuffer albedo"}),
-      faceNormal_(context, {kFaceNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage, "gbuffer face normal"}),
+      faceNormal_(context, {kFaceNormalFormat, width, height, 1, Usage::eColorAttachment | Usage::eStorage,
+                            "gbuffer face normal"}),
       depth_(context, {vk::Format::eD32Sfloat, width, height, 1, Usage::eDepthStencilAttachment, "gbuffer depth"}),
       positionReadback_(context, position_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer position readback"),
       normalReadback_(context, normal_.bytes(), vk::BufferUsageFlagBits::eTransferDst, "gbuffer normal readback"),
@@ -105,7 +110,8 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   };
   geometry.drawTextured(cmd, [&](const TexturedDraw& draw) {
     bind(texturedPipeline_, draw.colorTexture);
-    texturedPipeline_.pushConstants(cmd, shared::CutoutDrawPush{.viewProj = view.reversedDepthViewProj, .cameraPosition = camera});
+    texturedPipeline_.pushConstants(
+        cmd, shared::CutoutDrawPush{.viewProj = view.reversedDepthViewProj, .cameraPosition = camera});
   });
   geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
     bind(cutoutPipeline_, draw.colorTexture);

@@ -4,9 +4,8 @@
 // After record() the colour attachments are in GENERAL layout, readable by compute passes and copies.
 #pragma once
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/camera.h"
 #include "gpu/pipeline.h"
@@ -32,7 +31,8 @@ class GBufferPass {
   std::uint32_t width() const { return width_; }
   std::uint32_t height() const { return height_; }
   vk::DeviceSize bytes() const {
-    return position_.bytes() + normal_.bytes() + albedo_.bytes() + faceNormal_.bytes() + depth_.bytes() + textures_.bytes();
+    return position_.bytes() + normal_.bytes() + albedo_.bytes() + faceNormal_.bytes() + depth_.bytes() +
+           textures_.bytes();
   }
 
  private:

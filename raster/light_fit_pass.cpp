@@ -8,7 +8,8 @@
 namespace penumbra::raster {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {{0, vk::DescriptorType::eStorageImage}, {1, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kBindings[] = {{LIGHT_FIT_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+                                      {LIGHT_FIT_BINDING_BOUNDS, vk::DescriptorType::eStorageBuffer}};
 static_assert(sizeof(shared::LightFitPush) == 80 && sizeof(shared::LightFitBounds) == 32,
               "light fit structs must match std430 in shared/light_fit.h");
 
@@ -48,7 +49,9 @@ void LightFitPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass&
   using Access = vk::AccessFlagBits2;
   gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
-  pipeline_.bind(cmd, gpu::Descriptors{}.storageImage(0, gbuffer.position().view()).buffer(1, bounds_));
+  pipeline_.bind(cmd, gpu::Descriptors{}
+                          .storageImage(LIGHT_FIT_BINDING_POSITION, gbuffer.position().view())
+                          .buffer(LIGHT_FIT_BINDING_BOUNDS, bounds_));
   pipeline_.pushConstants(cmd, shared::LightFitPush{.viewProj = info.viewProj[0], .width = gbuffer.width(), .height = gbuffer.height()});
   constexpr std::uint32_t kGroupPixels = LIGHT_FIT_GROUP_SIZE * LIGHT_FIT_BLOCK;
   cmd.dispatch((gbuffer.width() + kGroupPixels - 1) / kGroupPixels, (gbuffer.height() + kGroupPixels - 1) / kGroupPixels, 1);

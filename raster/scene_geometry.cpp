@@ -23,7 +23,8 @@ std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
   std::vector<glm::vec2> uvs;
   uvs.reserve(vertexCount(scene));
   for (const Mesh& m : scene.meshes) {
-    if (textured(m)) uvs.insert(uvs.end(), m.uvs.begin(), m.uvs.end());
+    if (textured(m))
+      uvs.insert(uvs.end(), m.uvs.begin(), m.uvs.end());
     else uvs.resize(uvs.size() + m.positions.size(), glm::vec2(0.0f));
   }
   return uvs;
@@ -31,8 +32,10 @@ std::vector<glm::vec2> textureCoordinates(const Scene& scene) {
 
 // Appends a draw of `count` indices from `first`, joining the previous run where it ends there.
 void appendRun(std::vector<std::pair<std::uint32_t, std::uint32_t>>& runs, std::uint32_t first, std::uint32_t count) {
-  if (!runs.empty() && runs.back().first + runs.back().second == first) runs.back().second += count;
-  else runs.emplace_back(first, count);
+  if (!runs.empty() && runs.back().first + runs.back().second == first)
+    runs.back().second += count;
+  else
+    runs.emplace_back(first, count);
 }
 
 }  // namespace
@@ -41,14 +44,14 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene)
     : SceneGeometry(context, scene, cutoutData(scene)) {}
 
 SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, const CutoutData& cutouts)
-    : vertices_(context, vertexCount(scene) * sizeof(RasterVertex), vk::BufferUsageFlagBits::eVertexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
-                "scene vertices"),
-      indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer,
-               "scene indices"),
+    : vertices_(context, vertexCount(scene) * sizeof(RasterVertex),
+                vk::BufferUsageFlagBits::eVertexBuffer | vk::BufferUsageFlagBits::eStorageBuffer, "scene vertices"),
+      indices_(context, scene.triangleCount() * 3 * sizeof(std::uint32_t),
+               vk::BufferUsageFlagBits::eIndexBuffer | vk::BufferUsageFlagBits::eStorageBuffer, "scene indices"),
       uvs_(gpu::uploadedBuffer(context, std::span<const glm::vec2>(textureCoordinates(scene)),
                                vk::BufferUsageFlagBits::eVertexBuffer, "scene texture coordinates")),
-      triangles_(gpu::uploadedBuffer(context, std::span(cutouts.triangles), vk::BufferUsageFlagBits::eShaderDeviceAddress,
-                                     "scene cutout triangles")),
+      triangles_(gpu::uploadedBuffer(context, std::span(cutouts.triangles),
+                                     vk::BufferUsageFlagBits::eShaderDeviceAddress, "scene cutout triangles")),
       texels_(gpu::uploadedBuffer(context, std::span(cutouts.texels), vk::BufferUsageFlagBits::eShaderDeviceAddress,
                                   "scene cutout texels")) {
   if (vertexCount(scene) > std::numeric_limits<std::uint32_t>::max()) {
@@ -70,8 +73,10 @@ SceneGeometry::SceneGeometry(const gpu::Context& context, const Scene& scene, co
       cutoutTriangle += count / 3;
     } else {
       appendRun(opaque_, first, count);  // one draw for a run of opaque meshes
-      if (mesh.colorTexture >= 0) textured_.push_back({first, count, mesh.colorTexture});
-      else appendRun(plain_, first, count);
+      if (mesh.colorTexture >= 0)
+        textured_.push_back({first, count, mesh.colorTexture});
+      else
+        appendRun(plain_, first, count);
     }
     first += count;
   }
@@ -104,24 +109,30 @@ void SceneGeometry::drawPlain(const vk::raii::CommandBuffer& cmd) const {
   for (const auto& [first, count] : plain_) cmd.drawIndexed(count, 1, first, 0, 0);
 }
 
-void SceneGeometry::drawTextured(const vk::raii::CommandBuffer& cmd,
-                                 const std::function<void(const TexturedDraw&)>& push) const {
-  if (textured_.empty()) return;
-  cmd.bindVertexBuffers(1, {uvs_.handle()}, {vk::DeviceSize(0)});
-  for (const TexturedDraw& draw : textured_) {
+namespace {
+
+// Each of `draws` (meshes drawn one by one, with texture coordinates at binding 1): `push`, then its indices.
+template <typename Draw>
+void drawEach(const vk::raii::CommandBuffer& cmd, const gpu::Buffer& uvs, const std::vector<Draw>& draws,
+              const std::function<void(const Draw&)>& push) {
+  if (draws.empty()) return;
+  cmd.bindVertexBuffers(1, {uvs.handle()}, {vk::DeviceSize(0)});
+  for (const Draw& draw : draws) {
     push(draw);
     cmd.drawIndexed(draw.indexCount, 1, draw.firstIndex, 0, 0);
   }
 }
 
+}  // namespace
+
+void SceneGeometry::drawTextured(const vk::raii::CommandBuffer& cmd,
+                                 const std::function<void(const TexturedDraw&)>& push) const {
+  drawEach(cmd, uvs_, textured_, push);
+}
+
 void SceneGeometry::drawCutouts(const vk::raii::CommandBuffer& cmd,
                                 const std::function<void(const CutoutDraw&)>& push) const {
-  if (cutouts_.empty()) return;
-  cmd.bindVertexBuffers(1, {uvs_.handle()}, {vk::DeviceSize(0)});
-  for (const CutoutDraw& draw : cutouts_) {
-    push(draw);
-    cmd.drawIndexed(draw.indexCount, 1, draw.firstIndex, 0, 0);
-  }
+  drawEach(cmd, uvs_, cutouts_, push);
 }
 
 glm::uvec2 SceneGeometry::cutoutTrianglesAddress() const { return gpu::addressHalves(triangles_); }

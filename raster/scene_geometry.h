@@ -91,7 +91,7 @@ class SceneGeometry {
   SceneGeometry(const gpu::Context& context, const Scene& scene, const CutoutData& cutouts);
   gpu::Buffer vertices_;
   gpu::Buffer indices_;
-  gpu::Buffer uvs_;     // a texture coordinate per vertex (zero for meshes without); a word without any
+  gpu::Buffer uvs_;        // a texture coordinate per vertex (zero for meshes without); a word without any
   gpu::Buffer triangles_;  // the CutoutTriangles and ...
   gpu::Buffer texels_;     // ... the cut-out textures' alpha (core/cutouts.h), read through their addresses
   std::uint32_t indexCount_ = 0;

@@ -46,10 +46,10 @@ gpu::GraphicsPipelineDesc pipelineDesc() {
   return d;
 }
 
-constexpr gpu::Binding kSelectBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
-                                           {1, vk::DescriptorType::eStorageBuffer},
-                                           {2, vk::DescriptorType::eStorageBuffer},
-                                           {3, vk::DescriptorType::eStorageBuffer}};
+constexpr gpu::Binding kSelectBindings[] = {{THIN_SELECT_BINDING_VERTICES, vk::DescriptorType::eStorageBuffer},
+                                            {THIN_SELECT_BINDING_INDICES, vk::DescriptorType::eStorageBuffer},
+                                            {THIN_SELECT_BINDING_DRAWS, vk::DescriptorType::eStorageBuffer},
+                                            {THIN_SELECT_BINDING_LIST, vk::DescriptorType::eStorageBuffer}};
 constexpr vk::DeviceSize kDrawStride = THIN_DRAW_WORDS * sizeof(std::uint32_t);
 constexpr std::uint32_t kDrawCommandBytes = 5 * sizeof(std::uint32_t);  // VkDrawIndexedIndirectCommand
 
@@ -135,7 +135,11 @@ void ThinTrianglePass::recordSelection(const vk::raii::CommandBuffer& cmd, const
   gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
   if (triangles > 0) {
-    select_.bind(cmd, gpu::Descriptors{}.buffer(0, geometry.vertices()).buffer(1, geometry.indices()).buffer(2, draws_).buffer(3, *list_));
+    select_.bind(cmd, gpu::Descriptors{}
+                          .buffer(THIN_SELECT_BINDING_VERTICES, geometry.vertices())
+                          .buffer(THIN_SELECT_BINDING_INDICES, geometry.indices())
+                          .buffer(THIN_SELECT_BINDING_DRAWS, draws_)
+                          .buffer(THIN_SELECT_BINDING_LIST, *list_));
     const std::uint32_t groups = (triangles + THIN_SELECT_GROUP_SIZE - 1) / THIN_SELECT_GROUP_SIZE;
     const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
     for (std::uint32_t face = 0; face < faces; ++face) {

@@ -18,14 +18,14 @@ namespace {
 // The trees are read through device addresses (BvhAddresses), so only the counters and the
 // kernels' own buffers are bound.
 constexpr gpu::Binding kTraceBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
-                                           {3, vk::DescriptorType::eStorageBuffer},
-                                           {4, vk::DescriptorType::eStorageBuffer},
-                                           {5, vk::DescriptorType::eStorageBuffer},
+                                           {BVH_BINDING_TRACE_JOB, vk::DescriptorType::eStorageBuffer},
+                                           {BVH_BINDING_TRACE_JOB + 1, vk::DescriptorType::eStorageBuffer},
+                                           {BVH_BINDING_TRACE_JOB + 2, vk::DescriptorType::eStorageBuffer},
                                            {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
                                            {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
-                                          {3, vk::DescriptorType::eStorageBuffer},
-                                          {4, vk::DescriptorType::eStorageBuffer}};
+                                          {BVH_BINDING_QUERIES, vk::DescriptorType::eStorageBuffer},
+                                          {BVH_BINDING_HITS, vk::DescriptorType::eStorageBuffer}};
 
 constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_t);
 
@@ -102,7 +102,7 @@ void BvhTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) 
   recordTraceStart(cmd, counters_);
   gpu::Descriptors descriptors;
   descriptors.buffer(BVH_BINDING_COUNTERS, counters_);
-  tracePipeline_.bind(cmd, job.addTo(descriptors, 3));
+  tracePipeline_.bind(cmd, job.addTo(descriptors, BVH_BINDING_TRACE_JOB));
   tracePipeline_.pushConstants(cmd, shared::BvhTracePush{addresses(), dynamicRoot_, 0u, 0u, 0u});
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
@@ -127,15 +127,17 @@ TraceReport BvhTracer::readCounters(const gpu::Buffer& counters) {
 
 std::vector<shared::RayHit> BvhTracer::traceRays(std::span<const shared::RayQuery> rays, bool anyHit) {
   std::memset(raysCounters_.data(), 0, kCounterBytes);  // no GPU work is in flight between submissions
-  auto out = rayBatches_.trace(rays, BVH_GROUP_SIZE, [&](const vk::raii::CommandBuffer& cmd, const gpu::Buffer& queries,
-                                                         const gpu::Buffer& hits, std::uint32_t first, std::uint32_t count) {
-    raysPipeline_.bind(cmd, gpu::Descriptors{}
-                                .buffer(BVH_BINDING_COUNTERS, raysCounters_)
-                                .buffer(3, queries)
-                                .buffer(4, hits));
-    raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{addresses(), first, count, anyHit ? 1u : 0u, dynamicRoot_});
-    cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
-  });
+  auto out = rayBatches_.trace(rays, BVH_GROUP_SIZE,
+                               [&](const vk::raii::CommandBuffer& cmd, const gpu::Buffer& queries,
+                                   const gpu::Buffer& hits, std::uint32_t first, std::uint32_t count) {
+                                 raysPipeline_.bind(cmd, gpu::Descriptors{}
+                                                             .buffer(BVH_BINDING_COUNTERS, raysCounters_)
+                                                             .buffer(BVH_BINDING_QUERIES, queries)
+                                                             .buffer(BVH_BINDING_HITS, hits));
+                                 raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{addresses(), first, count,
+                                                                                      anyHit ? 1u : 0u, dynamicRoot_});
+                                 cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);
+                               });
   raysReport_ = readCounters(raysCounters_);
   return out;
 }

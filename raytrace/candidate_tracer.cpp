@@ -12,8 +12,8 @@ namespace penumbra {
 namespace {
 
 constexpr gpu::Binding kBindings[] = {{BVH_BINDING_COUNTERS, vk::DescriptorType::eStorageBuffer},
-                                      {3, vk::DescriptorType::eStorageBuffer},
-                                      {4, vk::DescriptorType::eStorageBuffer},
+                                      {BVH_BINDING_QUERIES, vk::DescriptorType::eStorageBuffer},
+                                      {BVH_BINDING_HITS, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_BOXES, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_BITS, vk::DescriptorType::eStorageBuffer},
                                       {CS_BINDING_OFFSETS, vk::DescriptorType::eStorageBuffer},
@@ -93,7 +93,9 @@ std::vector<shared::RayHit> CandidateTracer::trace(std::span<const shared::RayQu
   auto out = rayBatches_.trace(rays, BVH_GROUP_SIZE, [&](const vk::raii::CommandBuffer& cmd, const gpu::Buffer& queries,
                                                          const gpu::Buffer& hits, std::uint32_t first, std::uint32_t count) {
     gpu::Descriptors descriptors;
-    descriptors.buffer(BVH_BINDING_COUNTERS, counters_).buffer(3, queries).buffer(4, hits);
+    descriptors.buffer(BVH_BINDING_COUNTERS, counters_)
+        .buffer(BVH_BINDING_QUERIES, queries)
+        .buffer(BVH_BINDING_HITS, hits);
     pipeline_.bind(cmd, addBindings(descriptors));
     pipeline_.pushConstants(cmd, shared::CsRaysPush{bvhAddresses(), params(), first, count, mode, box});
     cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);

@@ -24,17 +24,18 @@ namespace {
 // top level and triangle ids (ray queries); exact mode adds the leaf records, lists and triangles.
 std::vector<gpu::Binding> bindings(bool rayQueries, bool exact) {
   const auto storage = vk::DescriptorType::eStorageBuffer;
-  std::vector<gpu::Binding> list{{{LS_BINDING_TREE, storage},
-           {LS_BINDING_NODES, storage},
-           {LS_BINDING_BITS, storage},
-           {LS_BINDING_COUNTERS, storage},
-           {4, storage},
-           {5, storage},
-           {6, storage},
-           {LS_BINDING_BVH_NODES, rayQueries ? vk::DescriptorType::eAccelerationStructureKHR : storage},
-           {LS_BINDING_BVH_TRIANGLES, storage},
-           {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
-           {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}}};
+  std::vector<gpu::Binding> list{
+      {{LS_BINDING_TREE, storage},
+       {LS_BINDING_NODES, storage},
+       {LS_BINDING_BITS, storage},
+       {LS_BINDING_COUNTERS, storage},
+       {LS_BINDING_TRACE_JOB, storage},
+       {LS_BINDING_TRACE_JOB + 1, storage},
+       {LS_BINDING_TRACE_JOB + 2, storage},
+       {LS_BINDING_BVH_NODES, rayQueries ? vk::DescriptorType::eAccelerationStructureKHR : storage},
+       {LS_BINDING_BVH_TRIANGLES, storage},
+       {TRACE_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+       {TRACE_BINDING_NORMAL, vk::DescriptorType::eStorageImage}}};
   if (exact) {
     list.push_back({LS_BINDING_LEAVES, storage});
     list.push_back({LS_BINDING_LEAF_TRIANGLES, storage});
@@ -172,7 +173,7 @@ void LineSpaceTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob&
   recordTraceStart(cmd, counters_);
   gpu::Descriptors descriptors;
   descriptors.buffer(LS_BINDING_COUNTERS, counters_);
-  job.addTo(descriptors, 4);
+  job.addTo(descriptors, LS_BINDING_TRACE_JOB);
   if (moving_) {
     SceneAccelerationStructures::recordBuildToTrace(cmd);
     addPools(descriptors);

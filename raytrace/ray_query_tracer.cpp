@@ -15,19 +15,16 @@ namespace {
 
 using Type = vk::DescriptorType;
 
-constexpr gpu::Binding kTraceBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
-                                           {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
-                                           {RQ_BINDING_COUNTERS, Type::eStorageBuffer},
-                                           {3, Type::eStorageBuffer},
-                                           {4, Type::eStorageBuffer},
-                                           {5, Type::eStorageBuffer},
-                                           {TRACE_BINDING_POSITION, Type::eStorageImage},
-                                           {TRACE_BINDING_NORMAL, Type::eStorageImage}};
+constexpr gpu::Binding kTraceBindings[] = {
+    {RQ_BINDING_SCENE, Type::eAccelerationStructureKHR}, {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
+    {RQ_BINDING_COUNTERS, Type::eStorageBuffer},         {BVH_BINDING_TRACE_JOB, Type::eStorageBuffer},
+    {BVH_BINDING_TRACE_JOB + 1, Type::eStorageBuffer},   {BVH_BINDING_TRACE_JOB + 2, Type::eStorageBuffer},
+    {TRACE_BINDING_POSITION, Type::eStorageImage},       {TRACE_BINDING_NORMAL, Type::eStorageImage}};
 constexpr gpu::Binding kRaysBindings[] = {{RQ_BINDING_SCENE, Type::eAccelerationStructureKHR},
                                           {RQ_BINDING_TRIANGLE_IDS, Type::eStorageBuffer},
                                           {RQ_BINDING_COUNTERS, Type::eStorageBuffer},
-                                          {3, Type::eStorageBuffer},
-                                          {4, Type::eStorageBuffer}};
+                                          {BVH_BINDING_QUERIES, Type::eStorageBuffer},
+                                          {BVH_BINDING_HITS, Type::eStorageBuffer}};
 constexpr vk::DeviceSize kCounterBytes = BVH_COUNTER_WORDS * sizeof(std::uint32_t);
 
 const gpu::Context& checked(const gpu::Context& context) {
@@ -56,7 +53,7 @@ void RayQueryTracer::record(const vk::raii::CommandBuffer& cmd, const TraceJob& 
   descriptors.accelerationStructure(RQ_BINDING_SCENE, structures_.top())
       .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
       .buffer(RQ_BINDING_COUNTERS, counters_);
-  tracePipeline_.bind(cmd, job.addTo(descriptors, 3));
+  tracePipeline_.bind(cmd, job.addTo(descriptors, BVH_BINDING_TRACE_JOB));
   cmd.dispatchIndirect(job.count.handle(), offsetof(shared::TraceCount, groupsX));
   gpu::computeToComputeAndHost(cmd);  // visibility for shading, counters for finish()
 }
@@ -78,8 +75,8 @@ std::vector<shared::RayHit> RayQueryTracer::traceRays(std::span<const shared::Ra
                                 .accelerationStructure(RQ_BINDING_SCENE, structures_.top())
                                 .buffer(RQ_BINDING_TRIANGLE_IDS, structures_.triangleIds())
                                 .buffer(RQ_BINDING_COUNTERS, raysCounters_)
-                                .buffer(3, queries)
-                                .buffer(4, hits));
+                                .buffer(BVH_BINDING_QUERIES, queries)
+                                .buffer(BVH_BINDING_HITS, hits));
     // The kernel reads the driver's acceleration structures: no BVH addresses.
     raysPipeline_.pushConstants(cmd, shared::BvhRaysPush{{}, first, count, anyHit ? 1u : 0u, 0u});
     cmd.dispatch((count + BVH_GROUP_SIZE - 1) / BVH_GROUP_SIZE, 1, 1);

@@ -1,11 +1,9 @@
 #include "raytrace/scene_triangles.h"
 
+#include <glm/gtc/packing.hpp>
 #include <optional>
 
-#include <glm/gtc/packing.hpp>
-
 #include "core/texture.h"
-
 #include "shared/gbuffer.h"
 
 namespace penumbra {

@@ -11,8 +11,8 @@ layout(push_constant) uniform Push { BvhRaysPush push; };
 #define BVH_ADDRESSES push.bvh
 #include "bvh_traverse.glsl"
 layout(local_size_x = BVH_GROUP_SIZE) in;
-layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };
-layout(std430, binding = 4) writeonly buffer Hits { RayHit hits[]; };
+layout(std430, binding = BVH_BINDING_QUERIES) readonly buffer Queries { RayQuery queries[]; };
+layout(std430, binding = BVH_BINDING_HITS) writeonly buffer Hits { RayHit hits[]; };
 
 void main() {
   uint rays = 0u;

@@ -14,9 +14,9 @@ layout(push_constant) uniform Push { BvhTracePush push; };
 #define BVH_ADDRESSES push.bvh
 #include "bvh_traverse.glsl"
 layout(local_size_x = TRACE_GROUP_SIZE) in;
-layout(std430, binding = 3) readonly buffer Count { TraceCount traceCount; };
-layout(std430, binding = 4) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = BVH_BINDING_TRACE_JOB) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = BVH_BINDING_TRACE_JOB + 1) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = BVH_BINDING_TRACE_JOB + 2) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
 
 bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax, out float blockerT) {

@@ -15,8 +15,8 @@ layout(push_constant) uniform Push { CsRaysPush push; };
 #define CS_PARAMS push.cs
 #include "bvh_ls_traverse.glsl"
 layout(local_size_x = BVH_GROUP_SIZE) in;
-layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };
-layout(std430, binding = 4) writeonly buffer Hits { RayHit hits[]; };
+layout(std430, binding = BVH_BINDING_QUERIES) readonly buffer Queries { RayQuery queries[]; };
+layout(std430, binding = BVH_BINDING_HITS) writeonly buffer Hits { RayHit hits[]; };
 
 void main() {
   uint rays = 0u;

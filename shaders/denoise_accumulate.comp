@@ -15,15 +15,15 @@
 #include "shared/denoise.h"
 #include "shared/frame.h"
 layout(local_size_x = DENOISE_GROUP_SIZE, local_size_y = DENOISE_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(std430, binding = 2) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 3) readonly buffer Visibility { float visibility[]; };
-layout(std430, binding = 4) readonly buffer Flags { uint flags[]; };
-layout(std430, binding = 5) readonly buffer HistoryIn { DenoiseHistory historyIn[]; };
-layout(std430, binding = 6) writeonly buffer HistoryOut { DenoiseHistory historyOut[]; };
-layout(std430, binding = 7) writeonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
-layout(std430, binding = 8) readonly buffer Blockers { float blockers[]; };
+layout(binding = DENOISE_ACCUMULATE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = DENOISE_ACCUMULATE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_VISIBILITY) readonly buffer Visibility { float visibility[]; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_FLAGS) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_HISTORY_IN) readonly buffer HistoryIn { DenoiseHistory historyIn[]; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_HISTORY_OUT) writeonly buffer HistoryOut { DenoiseHistory historyOut[]; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_ACCUMULATED) writeonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_BLOCKERS) readonly buffer Blockers { float blockers[]; };
 layout(push_constant) uniform Push { DenoiseAccumulatePush push; };
 #include "denoise_blockers.glsl"
 

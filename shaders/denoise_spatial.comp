@@ -11,13 +11,13 @@
 #include "shared/denoise.h"
 #include "shared/frame.h"
 layout(local_size_x = DENOISE_GROUP_SIZE, local_size_y = DENOISE_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(std430, binding = 2) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 3) readonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
-layout(std430, binding = 4) readonly buffer Flags { uint flags[]; };
-layout(std430, binding = 5) readonly buffer Blockers { float blockers[]; };
-layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+layout(binding = DENOISE_SPATIAL_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = DENOISE_SPATIAL_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(std430, binding = DENOISE_SPATIAL_BINDING_FRAME) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = DENOISE_SPATIAL_BINDING_ACCUMULATED) readonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
+layout(std430, binding = DENOISE_SPATIAL_BINDING_FLAGS) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = DENOISE_SPATIAL_BINDING_BLOCKERS) readonly buffer Blockers { float blockers[]; };
+layout(std430, binding = DENOISE_SPATIAL_BINDING_VISIBILITY) writeonly buffer Visibility { float visibility[]; };
 layout(push_constant) uniform Push { DenoiseSpatialPush push; };
 #include "denoise_blockers.glsl"
 

@@ -7,11 +7,11 @@
 #include "shared/frame.h"
 #include "shared/pyramid.h"
 layout(local_size_x = PYRAMID_GROUP_SIZE, local_size_y = PYRAMID_GROUP_SIZE) in;
-layout(binding = 0) uniform sampler2DArray shadowMap;
-layout(binding = 1) uniform sampler2DArray thinMask;
-layout(std430, binding = 2) buffer Pyramid { float tiles[]; };
-layout(std430, binding = 3) readonly buffer ShadowTexels { float shadowTexels[]; };
-layout(std430, binding = 4) readonly buffer ThinTexels { float thinTexels[]; };
+layout(binding = PYRAMID_BINDING_SHADOW_MAP) uniform sampler2DArray shadowMap;
+layout(binding = PYRAMID_BINDING_THIN_MASK) uniform sampler2DArray thinMask;
+layout(std430, binding = PYRAMID_BINDING_TILES) buffer Pyramid { float tiles[]; };
+layout(std430, binding = PYRAMID_BINDING_SHADOW_TEXELS) readonly buffer ShadowTexels { float shadowTexels[]; };
+layout(std430, binding = PYRAMID_BINDING_THIN_TEXELS) readonly buffer ThinTexels { float thinTexels[]; };
 layout(push_constant) uniform PushBlock { PyramidPush push; };
 #include "light_texels.glsl"
 

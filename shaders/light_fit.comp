@@ -9,8 +9,8 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/light_fit.h"
 layout(local_size_x = LIGHT_FIT_GROUP_SIZE, local_size_y = LIGHT_FIT_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(std430, binding = 1) buffer Bounds { LightFitBounds bounds; };
+layout(binding = LIGHT_FIT_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(std430, binding = LIGHT_FIT_BINDING_BOUNDS) buffer Bounds { LightFitBounds bounds; };
 layout(push_constant) uniform PushBlock { LightFitPush push; };
 
 shared uint sMinX, sMinY, sMaxX, sMaxY, sCount;

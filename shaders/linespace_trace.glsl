@@ -30,9 +30,9 @@ bool movingOccluded(vec3 origin, vec3 dir, float tMax) {
 }
 #endif
 layout(local_size_x = TRACE_GROUP_SIZE) in;
-layout(std430, binding = 4) readonly buffer Count { TraceCount traceCount; };
-layout(std430, binding = 5) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = LS_BINDING_TRACE_JOB) readonly buffer Count { TraceCount traceCount; };
+layout(std430, binding = LS_BINDING_TRACE_JOB + 1) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = LS_BINDING_TRACE_JOB + 2) writeonly buffer Visibility { float visibility[]; };
 #include "trace_points.glsl"
 
 // Binary mode: the line space answers from where the ray is startOffset above the surface on (see

@@ -9,8 +9,8 @@
 #extension GL_EXT_buffer_reference_uvec2 : require
 #include "rq_common.glsl"
 layout(local_size_x = BVH_GROUP_SIZE) in;
-layout(std430, binding = 3) readonly buffer Queries { RayQuery queries[]; };
-layout(std430, binding = 4) writeonly buffer Hits { RayHit hits[]; };
+layout(std430, binding = BVH_BINDING_QUERIES) readonly buffer Queries { RayQuery queries[]; };
+layout(std430, binding = BVH_BINDING_HITS) writeonly buffer Hits { RayHit hits[]; };
 layout(push_constant) uniform Push { BvhRaysPush push; };
 
 void main() {

@@ -6,10 +6,10 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/thin.h"
 layout(local_size_x = THIN_SELECT_GROUP_SIZE) in;
-layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };  // RasterVertex: 9 floats, position first
-layout(std430, binding = 1) readonly buffer Indices { uint indices[]; };
-layout(std430, binding = 2) buffer Draws { uint draws[]; };
-layout(std430, binding = 3) writeonly buffer List { uint list[]; };
+layout(std430, binding = THIN_SELECT_BINDING_VERTICES) readonly buffer Vertices { float vertices[]; };  // RasterVertex: 9 floats, position first
+layout(std430, binding = THIN_SELECT_BINDING_INDICES) readonly buffer Indices { uint indices[]; };
+layout(std430, binding = THIN_SELECT_BINDING_DRAWS) buffer Draws { uint draws[]; };
+layout(std430, binding = THIN_SELECT_BINDING_LIST) writeonly buffer List { uint list[]; };
 layout(push_constant) uniform PushBlock { ThinSelectPush select; };
 #define push select.thin
 #include "thin_face.glsl"

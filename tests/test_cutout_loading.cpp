@@ -153,8 +153,9 @@ TEST(TextureLoading, ObjDiffuseMapColoursItsMaterial) {
                                            "newmtl painted\nKd 0.5 0.5 0.5\nmap_Kd leaf.png\n"
                                            "newmtl lost\nKd 0.2 0.3 0.4\nmap_Kd absent.png\n"));
   const std::string quad = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
-  writeFile(dir.file("a.obj"), quad + "o a\nusemtl leaf\nf 1/1 2/2 3/3 4/4\no b\nusemtl painted\nf 1/4 2/3 3/2 4/1\n"
-                                      "o c\nusemtl lost\nf 1/1 2/2 3/3 4/4\n");
+  writeFile(dir.file("a.obj"), quad +
+                                   "o a\nusemtl leaf\nf 1/1 2/2 3/3 4/4\no b\nusemtl painted\nf 1/4 2/3 3/2 4/1\n"
+                                   "o c\nusemtl lost\nf 1/1 2/2 3/3 4/4\n");
   const Scene s = penumbra::loadScene(dir.file("a.obj"));
   ASSERT_EQ(s.meshes.size(), 3u);
   EXPECT_EQ(s.textures.size(), 1u) << "one image, decoded once";
@@ -176,9 +177,10 @@ TEST(TextureLoading, ObjDiffuseMapColoursItsMaterial) {
 TEST(TextureLoading, AssimpFormatsReadTheirTextures) {
   TempDir dir;
   writeFile(dir.file("paint.png"), checkerPng(dir));
-  const std::string header = "ply\nformat ascii 1.0\ncomment TextureFile paint.png\nelement vertex 3\nproperty float x\n"
-                             "property float y\nproperty float z\nproperty float s\nproperty float t\nelement face 1\n"
-                             "property list uchar int vertex_indices\nend_header\n";
+  const std::string header =
+      "ply\nformat ascii 1.0\ncomment TextureFile paint.png\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nproperty float s\nproperty float t\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
   writeFile(dir.file("a.ply"), header + "0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n");
   const Scene s = penumbra::loadScene(dir.file("a.ply"));
   ASSERT_EQ(s.meshes.size(), 1u);

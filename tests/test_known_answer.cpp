@@ -158,7 +158,8 @@ TEST(KnownAnswer, CameraPassColoursWithTheTexture) {
   RenderSettings settings = smallSettings(128, 256);
   Scene scene = loadScene("builtin:checker");
   Texture paint{"red | blue", 8, 1, {}};
-  for (int x = 0; x < 8; ++x) paint.rgba.insert(paint.rgba.end(), {std::uint8_t(x < 4 ? 255 : 0), 0, std::uint8_t(x < 4 ? 0 : 255), 255});
+  for (int x = 0; x < 8; ++x)
+    paint.rgba.insert(paint.rgba.end(), {std::uint8_t(x < 4 ? 255 : 0), 0, std::uint8_t(x < 4 ? 0 : 255), 255});
   scene.textures.push_back(paint);
   Mesh& ground = scene.meshes.at(0);
   ground.baseColor = glm::vec3(1.0f);
@@ -190,8 +191,8 @@ TEST(KnownAnswer, CameraPassColoursWithTheTexture) {
       wrong += !(c[2] > 40 && c[0] == 0);
     }
   }
-  std::printf("textured ground: %d red, %d blue pixels, %d wrong; occluder %d; %d grey without the texture\n", red, blue,
-              wrong, occluder, greyGround);
+  std::printf("textured ground: %d red, %d blue pixels, %d wrong; occluder %d; %d grey without the texture\n", red,
+              blue, wrong, occluder, greyGround);
   EXPECT_GT(red, 300);
   EXPECT_GT(blue, 300);
   EXPECT_GT(occluder, 100);

@@ -23,6 +23,12 @@ PN_BEGIN
 #ifndef BVH_BINDING_COUNTERS
 #define BVH_BINDING_COUNTERS 2
 #endif
+// The shadow-ray kernels' job (bvh_trace.comp, rq_trace.comp): TraceJob::addTo's count, frame and
+// visibility at this binding and the two after it. The generic-ray kernels' (bvh_rays.comp,
+// rq_rays.comp, candidate_rays.comp) queries and hits.
+#define BVH_BINDING_TRACE_JOB 3
+#define BVH_BINDING_QUERIES 3
+#define BVH_BINDING_HITS 4
 
 // Two trees share the node and triangle buffers (raytrace/bvh_tracer.h): the static scene's,
 // rooted at node 0, and, in scenes with moving meshes, the dynamic meshes' tree after it, whose

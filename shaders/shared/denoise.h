@@ -5,6 +5,27 @@
 #include "shared/glsl_cpp.h"
 PN_BEGIN
 
+// denoise_accumulate.comp's bindings (hybrid/denoise_pass.cpp): the G-buffer's position and normal
+// (storage images), FrameData, the frame's visibility and trace flags, the history read and
+// written, the temporal result and the blocker distances.
+#define DENOISE_ACCUMULATE_BINDING_POSITION 0
+#define DENOISE_ACCUMULATE_BINDING_NORMAL 1
+#define DENOISE_ACCUMULATE_BINDING_FRAME 2
+#define DENOISE_ACCUMULATE_BINDING_VISIBILITY 3
+#define DENOISE_ACCUMULATE_BINDING_FLAGS 4
+#define DENOISE_ACCUMULATE_BINDING_HISTORY_IN 5
+#define DENOISE_ACCUMULATE_BINDING_HISTORY_OUT 6
+#define DENOISE_ACCUMULATE_BINDING_ACCUMULATED 7
+#define DENOISE_ACCUMULATE_BINDING_BLOCKERS 8
+// denoise_spatial.comp's: the same inputs, the temporal result, and the visibility it writes.
+#define DENOISE_SPATIAL_BINDING_POSITION 0
+#define DENOISE_SPATIAL_BINDING_NORMAL 1
+#define DENOISE_SPATIAL_BINDING_FRAME 2
+#define DENOISE_SPATIAL_BINDING_ACCUMULATED 3
+#define DENOISE_SPATIAL_BINDING_FLAGS 4
+#define DENOISE_SPATIAL_BINDING_BLOCKERS 5
+#define DENOISE_SPATIAL_BINDING_VISIBILITY 6
+
 #define DENOISE_GROUP_SIZE 8  // 8x8 pixels per workgroup
 #define DENOISE_TAPS 3        // spatial filter: (2 * DENOISE_TAPS + 1)^2 taps, spaced to span the radius
 #define DENOISE_FOLLOW_BLOCKERS 2  // shadows are followed where at least this many nearby blocker distances are known

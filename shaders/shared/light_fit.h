@@ -5,6 +5,10 @@
 #include "shared/glsl_cpp.h"
 PN_BEGIN
 
+// light_fit.comp's bindings (raster/light_fit_pass.cpp).
+#define LIGHT_FIT_BINDING_POSITION 0  // G-buffer position (storage image)
+#define LIGHT_FIT_BINDING_BOUNDS 1    // LightFitBounds, accumulated
+
 #define LIGHT_FIT_GROUP_SIZE 8  // 8x8 invocations per workgroup ...
 #define LIGHT_FIT_BLOCK 4       // ... each reducing a 4x4 block of pixels: lavapipe pays per invocation
 

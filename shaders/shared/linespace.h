@@ -29,6 +29,7 @@ PN_BEGIN
 #define LS_BINDING_NODES 1
 #define LS_BINDING_BITS 2
 #define LS_BINDING_COUNTERS 3
+#define LS_BINDING_TRACE_JOB 4  // TraceJob::addTo's count, frame and visibility: 4, 5, 6
 // Exact mode only (LS_EXACT kernels): leaf records, their packed triangle index lists, and the
 // static triangles in BvhTriangle format (scene-order ids), indexed by the lists.
 #define LS_BINDING_LEAVES 12

@@ -17,6 +17,13 @@
 #include "shared/glsl_cpp.h"
 PN_BEGIN
 
+// depth_pyramid.comp's bindings (raster/depth_pyramid_pass.cpp).
+#define PYRAMID_BINDING_SHADOW_MAP 0     // the light's depth map (sampled)
+#define PYRAMID_BINDING_THIN_MASK 1      // the thin-triangle mask (sampled; the map again without one)
+#define PYRAMID_BINDING_TILES 2          // the pyramid, written
+#define PYRAMID_BINDING_SHADOW_TEXELS 3  // the map's texel copy
+#define PYRAMID_BINDING_THIN_TEXELS 4    // the mask's texel copy (the map's without one)
+
 #define PYRAMID_GROUP_SIZE 8
 #define PYRAMID_MAX_LEVELS 15
 #define PYRAMID_EDGES 0u

@@ -6,6 +6,12 @@
 #include "shared/glsl_cpp.h"
 PN_BEGIN
 
+// thin_select.comp's bindings (raster/thin_triangle_pass.cpp).
+#define THIN_SELECT_BINDING_VERTICES 0  // SceneGeometry::vertices(): RasterVertex, 9 floats
+#define THIN_SELECT_BINDING_INDICES 1   // SceneGeometry::indices()
+#define THIN_SELECT_BINDING_DRAWS 2     // the indirect draws' commands, written
+#define THIN_SELECT_BINDING_LIST 3      // the selected triangles, written
+
 // Extra outward margin, in texels, over the exact half-texel box: absorbs the rasterizer's vertex
 // snapping (1/256 texel on lavapipe) and float rounding, so "touches" never loses a texel to a tie.
 #define THIN_EPSILON_TEXELS (1.0f / 64.0f)
