@@ -16,17 +16,21 @@ namespace {
 
 static_assert(sizeof(shared::BitmaskFrame) == 176, "BitmaskFrame must match std430 in shared/bitmask.h");
 
-constexpr gpu::Binding kTableBindings[] = {{0, vk::DescriptorType::eStorageBuffer},
-                                          {2, vk::DescriptorType::eStorageBuffer}};
-constexpr gpu::Binding kFitBindings[] = {{0, vk::DescriptorType::eStorageImage},
-                                        {1, vk::DescriptorType::eStorageImage},
-                                        {3, vk::DescriptorType::eStorageBuffer},
-                                        {4, vk::DescriptorType::eStorageBuffer}};
-constexpr gpu::Binding kResolveBindings[] = {
-    {0, vk::DescriptorType::eStorageImage},  {1, vk::DescriptorType::eStorageImage},
-    {2, vk::DescriptorType::eStorageBuffer}, {3, vk::DescriptorType::eStorageBuffer},
-    {4, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer},
-    {6, vk::DescriptorType::eStorageBuffer}, {7, vk::DescriptorType::eStorageBuffer}};
+using Type = vk::DescriptorType;
+constexpr gpu::Binding kTableBindings[] = {{BITMASK_TABLE_BINDING_LIGHT, Type::eStorageBuffer},
+                                           {BITMASK_TABLE_BINDING_TABLE, Type::eStorageBuffer}};
+constexpr gpu::Binding kFitBindings[] = {{BITMASK_FIT_BINDING_POSITION, Type::eStorageImage},
+                                         {BITMASK_FIT_BINDING_NORMAL, Type::eStorageImage},
+                                         {BITMASK_FIT_BINDING_FRAME, Type::eStorageBuffer},
+                                         {BITMASK_FIT_BINDING_BOUNDS, Type::eStorageBuffer}};
+constexpr gpu::Binding kResolveBindings[] = {{BITMASK_RESOLVE_BINDING_POSITION, Type::eStorageImage},
+                                             {BITMASK_RESOLVE_BINDING_NORMAL, Type::eStorageImage},
+                                             {BITMASK_RESOLVE_BINDING_FRAME_DATA, Type::eStorageBuffer},
+                                             {BITMASK_RESOLVE_BINDING_FRAME, Type::eStorageBuffer},
+                                             {BITMASK_RESOLVE_BINDING_HIDDEN, Type::eStorageBuffer},
+                                             {BITMASK_RESOLVE_BINDING_VISIBILITY, Type::eStorageBuffer},
+                                             {BITMASK_RESOLVE_BINDING_TRACE_FLAGS, Type::eStorageBuffer},
+                                             {BITMASK_RESOLVE_BINDING_HEIGHTS, Type::eStorageBuffer}};
 
 const gpu::Context& checked(const gpu::Context& context) {
   const auto features = context.physicalDevice().getFeatures();
@@ -44,9 +48,11 @@ gpu::GraphicsPipelineDesc hiddenDesc() {
   d.fragmentSpirv = bitmask_hidden_frag;
   readPositions(d);
   d.depthFormat = vk::Format::eUndefined;  // no attachments: fragments OR into a storage buffer
-  d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {2, vk::DescriptorType::eStorageBuffer},
-                {3, vk::DescriptorType::eStorageBuffer}, {4, vk::DescriptorType::eStorageBuffer},
-                {5, vk::DescriptorType::eStorageBuffer}};
+  d.bindings = {{BITMASK_DRAW_BINDING_FRAME, Type::eStorageBuffer},
+                {BITMASK_DRAW_BINDING_TABLE, Type::eStorageBuffer},
+                {BITMASK_DRAW_BINDING_HIDDEN, Type::eStorageBuffer},
+                {BITMASK_DRAW_BINDING_FILL, Type::eStorageBuffer},
+                {BITMASK_DRAW_BINDING_HEIGHTS, Type::eStorageBuffer}};
   d.name = "bitmask hidden-samples pipeline";
   return d;
 }
@@ -57,7 +63,8 @@ gpu::GraphicsPipelineDesc heightDesc() {
   d.fragmentSpirv = bitmask_height_frag;
   readPositions(d);
   d.depthFormat = vk::Format::eUndefined;  // fragments take the greatest height with atomics
-  d.bindings = {{1, vk::DescriptorType::eStorageBuffer}, {5, vk::DescriptorType::eStorageBuffer}};
+  d.bindings = {{BITMASK_DRAW_BINDING_FRAME, Type::eStorageBuffer},
+                {BITMASK_DRAW_BINDING_HEIGHTS, Type::eStorageBuffer}};
   d.name = "bitmask height-field pipeline";
   return d;
 }
@@ -104,9 +111,11 @@ void BitmaskTable::record(const vk::raii::CommandBuffer& cmd, const shared::GpuL
   if (reused_) return;
   // The previous frame's passes may still read this host-written buffer: submitAndWait ran them.
   light_.upload(std::span<const shared::GpuLight>(&light, 1));
-  pipeline_.bind(cmd, gpu::Descriptors{}.buffer(0, light_).buffer(2, *table_));
+  pipeline_.bind(
+      cmd, gpu::Descriptors{}.buffer(BITMASK_TABLE_BINDING_LIGHT, light_).buffer(BITMASK_TABLE_BINDING_TABLE, *table_));
   pipeline_.pushConstants(cmd, shared::BitmaskTablePush{samples, words});
-  const std::uint32_t groups = (BITMASK_THETA_BINS * BITMASK_R_BINS * words + 63) / 64;
+  const std::uint32_t groups =
+      (BITMASK_THETA_BINS * BITMASK_R_BINS * words + BITMASK_TABLE_GROUP_SIZE - 1) / BITMASK_TABLE_GROUP_SIZE;
   const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535), gy = (groups + gx - 1) / gx;
   cmd.dispatch(gx, gy, 1);
   gpu::computeToComputeAndHost(cmd);
@@ -148,10 +157,10 @@ void BitmaskPass::recordFit(const vk::raii::CommandBuffer& cmd, const GBufferPas
   gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
                      Access::eShaderStorageRead | Access::eShaderStorageWrite);
   fitPipeline_.bind(cmd, gpu::Descriptors{}
-                             .storageImage(0, gbuffer.position().view())
-                             .storageImage(1, gbuffer.normal().view())
-                             .buffer(3, frame_)
-                             .buffer(4, bounds_));
+                             .storageImage(BITMASK_FIT_BINDING_POSITION, gbuffer.position().view())
+                             .storageImage(BITMASK_FIT_BINDING_NORMAL, gbuffer.normal().view())
+                             .buffer(BITMASK_FIT_BINDING_FRAME, frame_)
+                             .buffer(BITMASK_FIT_BINDING_BOUNDS, bounds_));
   fitPipeline_.pushConstants(cmd, 0u);
   cmd.dispatch((gbuffer.width() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE,
                (gbuffer.height() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE, 1);
@@ -182,7 +191,12 @@ void BitmaskPass::recordDraw(const vk::raii::CommandBuffer& cmd, const BitmaskTa
   gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
                      Stage::eGeometryShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
   drawOverMap(cmd, hiddenPipeline_,
-              gpu::Descriptors{}.buffer(1, frame_).buffer(2, table.buffer()).buffer(3, *hidden_).buffer(4, fill_).buffer(5, *heights_),
+              gpu::Descriptors{}
+                  .buffer(BITMASK_DRAW_BINDING_FRAME, frame_)
+                  .buffer(BITMASK_DRAW_BINDING_TABLE, table.buffer())
+                  .buffer(BITMASK_DRAW_BINDING_HIDDEN, *hidden_)
+                  .buffer(BITMASK_DRAW_BINDING_FILL, fill_)
+                  .buffer(BITMASK_DRAW_BINDING_HEIGHTS, *heights_),
               geometry);
   gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite, Stage::eComputeShader | Stage::eHost,
                      Access::eShaderStorageRead | Access::eHostRead);
@@ -208,20 +222,23 @@ void BitmaskPass::record(const vk::raii::CommandBuffer& cmd, const BitmaskTable&
     cmd.fillBuffer(heights_->handle(), 0, VK_WHOLE_SIZE, 0u);
     gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eClear, Access::eShaderStorageWrite | Access::eTransferWrite,
                        Stage::eVertexShader | Stage::eFragmentShader, Access::eShaderStorageRead | Access::eShaderStorageWrite);
-    drawOverMap(cmd, heightPipeline_, gpu::Descriptors{}.buffer(1, frame_).buffer(5, *heights_), *field);
+    drawOverMap(
+        cmd, heightPipeline_,
+        gpu::Descriptors{}.buffer(BITMASK_DRAW_BINDING_FRAME, frame_).buffer(BITMASK_DRAW_BINDING_HEIGHTS, *heights_),
+        *field);
     gpu::memoryBarrier(cmd, Stage::eFragmentShader, Access::eShaderStorageWrite,
                        Stage::eFragmentShader | Stage::eComputeShader, Access::eShaderStorageRead);
   }
   recordDraw(cmd, table, geometry);
   resolvePipeline_.bind(cmd, gpu::Descriptors{}
-                                 .storageImage(0, gbuffer.position().view())
-                                 .storageImage(1, gbuffer.normal().view())
-                                 .buffer(2, frameData)
-                                 .buffer(3, frame_)
-                                 .buffer(4, *hidden_)
-                                 .buffer(5, visibility)
-                                 .buffer(6, traceFlags)
-                                 .buffer(7, *heights_));
+                                 .storageImage(BITMASK_RESOLVE_BINDING_POSITION, gbuffer.position().view())
+                                 .storageImage(BITMASK_RESOLVE_BINDING_NORMAL, gbuffer.normal().view())
+                                 .buffer(BITMASK_RESOLVE_BINDING_FRAME_DATA, frameData)
+                                 .buffer(BITMASK_RESOLVE_BINDING_FRAME, frame_)
+                                 .buffer(BITMASK_RESOLVE_BINDING_HIDDEN, *hidden_)
+                                 .buffer(BITMASK_RESOLVE_BINDING_VISIBILITY, visibility)
+                                 .buffer(BITMASK_RESOLVE_BINDING_TRACE_FLAGS, traceFlags)
+                                 .buffer(BITMASK_RESOLVE_BINDING_HEIGHTS, *heights_));
   cmd.dispatch((gbuffer.width() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE,
                (gbuffer.height() + BITMASK_GROUP_SIZE - 1) / BITMASK_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);

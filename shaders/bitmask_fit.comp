@@ -9,10 +9,10 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bitmask.h"
 layout(local_size_x = BITMASK_GROUP_SIZE, local_size_y = BITMASK_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(std430, binding = 3) buffer Bitmask { BitmaskFrame bitmask; };
-layout(std430, binding = 4) buffer Bounds { uint bounds[4]; };  // min u, min v, max u, max v (float bits)
+layout(binding = BITMASK_FIT_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = BITMASK_FIT_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(std430, binding = BITMASK_FIT_BINDING_FRAME) buffer Bitmask { BitmaskFrame bitmask; };
+layout(std430, binding = BITMASK_FIT_BINDING_BOUNDS) buffer Bounds { uint bounds[4]; };  // min u, min v, max u, max v (float bits)
 layout(push_constant) uniform Push { uint apply; };
 
 void main() {

@@ -4,8 +4,8 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bitmask.h"
 layout(location = 0) in float inHeight;
-layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
-layout(std430, binding = 5) buffer Heights { uint heights[]; };
+layout(std430, binding = BITMASK_DRAW_BINDING_FRAME) readonly buffer Frame { BitmaskFrame frame; };
+layout(std430, binding = BITMASK_DRAW_BINDING_HEIGHTS) buffer Heights { uint heights[]; };
 void main() {
   uint texel = uint(gl_FragCoord.y) * frame.resolution + uint(gl_FragCoord.x);
   atomicMax(heights[texel], floatBitsToUint(max(inHeight, 0.0)));

@@ -13,10 +13,10 @@
 layout(location = 0) flat in vec3 inA;
 layout(location = 1) flat in vec3 inB;
 layout(location = 2) flat in vec3 inC;
-layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
-layout(std430, binding = 2) readonly buffer Table { uint table[]; };
-layout(std430, binding = 3) buffer Hidden { uint hidden[]; };
-layout(std430, binding = 5) readonly buffer Heights { float heights[]; };  // a height field's, per texel
+layout(std430, binding = BITMASK_DRAW_BINDING_FRAME) readonly buffer Frame { BitmaskFrame frame; };
+layout(std430, binding = BITMASK_DRAW_BINDING_TABLE) readonly buffer Table { uint table[]; };
+layout(std430, binding = BITMASK_DRAW_BINDING_HIDDEN) buffer Hidden { uint hidden[]; };
+layout(std430, binding = BITMASK_DRAW_BINDING_HEIGHTS) readonly buffer Heights { float heights[]; };  // a height field's, per texel
 
 // A caster point must lie at least this fraction of the way from the receiver point to the light's plane.
 const float kAhead = 1e-4;

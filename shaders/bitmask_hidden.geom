@@ -16,10 +16,10 @@ layout(location = 0) in vec3 inWorld[];
 layout(location = 0) flat out vec3 outA;
 layout(location = 1) flat out vec3 outB;
 layout(location = 2) flat out vec3 outC;
-layout(std430, binding = 1) readonly buffer Frame { BitmaskFrame frame; };
+layout(std430, binding = BITMASK_DRAW_BINDING_FRAME) readonly buffer Frame { BitmaskFrame frame; };
 // What was drawn: influence regions, and their texels in 64 bits (low word, carries): a large
 // light over 285K triangles fills 1600 times a 512^2 map, which overflows 32 bits at 2048^2.
-layout(std430, binding = 4) buffer Fill { uint regions, texels, texelsHigh; } fill;
+layout(std430, binding = BITMASK_DRAW_BINDING_FILL) buffer Fill { uint regions, texels, texelsHigh; } fill;
 
 float height(vec3 x) { return dot(frame.plane.xyz, x) + frame.plane.w; }
 float aboveReceiver(vec3 x) { return height(x) - frame.lightB.w; }

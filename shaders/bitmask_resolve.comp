@@ -8,14 +8,14 @@
 #include "shared/bitmask.h"
 #include "shared/frame.h"
 layout(local_size_x = BITMASK_GROUP_SIZE, local_size_y = BITMASK_GROUP_SIZE) in;
-layout(binding = 0, rgba32f) uniform readonly image2D gPosition;
-layout(binding = 1, rgba32f) uniform readonly image2D gNormal;
-layout(std430, binding = 2) readonly buffer Frame { FrameData frame; };
-layout(std430, binding = 3) readonly buffer Bitmask { BitmaskFrame bitmask; };
-layout(std430, binding = 4) readonly buffer Hidden { uint hidden[]; };
-layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
-layout(std430, binding = 6) writeonly buffer TraceFlags { uint traceFlags[]; };
-layout(std430, binding = 7) readonly buffer Heights { float heights[]; };  // a height field's, per texel
+layout(binding = BITMASK_RESOLVE_BINDING_POSITION, rgba32f) uniform readonly image2D gPosition;
+layout(binding = BITMASK_RESOLVE_BINDING_NORMAL, rgba32f) uniform readonly image2D gNormal;
+layout(std430, binding = BITMASK_RESOLVE_BINDING_FRAME_DATA) readonly buffer Frame { FrameData frame; };
+layout(std430, binding = BITMASK_RESOLVE_BINDING_FRAME) readonly buffer Bitmask { BitmaskFrame bitmask; };
+layout(std430, binding = BITMASK_RESOLVE_BINDING_HIDDEN) readonly buffer Hidden { uint hidden[]; };
+layout(std430, binding = BITMASK_RESOLVE_BINDING_VISIBILITY) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = BITMASK_RESOLVE_BINDING_TRACE_FLAGS) writeonly buffer TraceFlags { uint traceFlags[]; };
+layout(std430, binding = BITMASK_RESOLVE_BINDING_HEIGHTS) readonly buffer Heights { float heights[]; };  // a height field's, per texel
 
 // A height field's surface height at map point uv (bilinear between texel centres), and how much
 // it varies there (the on-receiver test's allowance for the facets between the centres).

@@ -6,10 +6,10 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bitmask.h"
 #include "shared/light.h"
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Light { GpuLight light; };
+layout(local_size_x = BITMASK_TABLE_GROUP_SIZE) in;
+layout(std430, binding = BITMASK_TABLE_BINDING_LIGHT) readonly buffer Light { GpuLight light; };
 layout(push_constant) uniform Push { BitmaskTablePush frame; };
-layout(std430, binding = 2) writeonly buffer Table { uint table[]; };
+layout(std430, binding = BITMASK_TABLE_BINDING_TABLE) writeonly buffer Table { uint table[]; };
 
 void main() {
   uint index = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;

@@ -7,6 +7,32 @@
 #include "shared/light.h"
 PN_BEGIN
 
+// Bindings (raster/bitmask_pass.cpp). bitmask_table.comp: the light and the table it writes.
+#define BITMASK_TABLE_BINDING_LIGHT 0
+#define BITMASK_TABLE_BINDING_TABLE 2
+// bitmask_fit.comp: the G-buffer's position and normal, the BitmaskFrame it fits, the bounds.
+#define BITMASK_FIT_BINDING_POSITION 0
+#define BITMASK_FIT_BINDING_NORMAL 1
+#define BITMASK_FIT_BINDING_FRAME 3
+#define BITMASK_FIT_BINDING_BOUNDS 4
+// The raster passes (bitmask_hidden.*, bitmask_height.*): the BitmaskFrame, the table, the hidden
+// samples' bits, the fill counters and the height field.
+#define BITMASK_DRAW_BINDING_FRAME 1
+#define BITMASK_DRAW_BINDING_TABLE 2
+#define BITMASK_DRAW_BINDING_HIDDEN 3
+#define BITMASK_DRAW_BINDING_FILL 4
+#define BITMASK_DRAW_BINDING_HEIGHTS 5
+// bitmask_resolve.comp: the G-buffer, FrameData, the BitmaskFrame, the hidden bits, the visibility
+// and trace flags it writes, the height field.
+#define BITMASK_RESOLVE_BINDING_POSITION 0
+#define BITMASK_RESOLVE_BINDING_NORMAL 1
+#define BITMASK_RESOLVE_BINDING_FRAME_DATA 2
+#define BITMASK_RESOLVE_BINDING_FRAME 3
+#define BITMASK_RESOLVE_BINDING_HIDDEN 4
+#define BITMASK_RESOLVE_BINDING_VISIBILITY 5
+#define BITMASK_RESOLVE_BINDING_TRACE_FLAGS 6
+#define BITMASK_RESOLVE_BINDING_HEIGHTS 7
+
 // The Hough table: for each oriented line through the light's normalized square [-1/2, 1/2]^2,
 // binned by its direction theta in [-pi, pi) and its signed distance r from the centre in
 // [-BITMASK_R_MAX, BITMASK_R_MAX], the samples strictly left of it, BITMASK words of 32 bits.
@@ -15,6 +41,7 @@ PN_BEGIN
 #define BITMASK_R_MAX 0.70710678f  // half the square's diagonal: lines farther off miss it
 #define BITMASK_MAX_SAMPLES 1024u  // 32 words: the hidden-samples map of a 512^2 receiver is 32 MiB
 #define BITMASK_GROUP_SIZE 16u     // bitmask_resolve.comp: 16x16 pixels per workgroup
+#define BITMASK_TABLE_GROUP_SIZE 64  // bitmask_table.comp: table words per workgroup
 
 // bitmask_table.comp's push constants.
 struct BitmaskTablePush {
