@@ -304,12 +304,12 @@ struct Converter {
     for (std::size_t i = 0; i < sources.size(); ++i) decoded.emplace(sources[i], std::move(results[i]));
   }
 
-  // Image `source`'s decoded texture (decodeImages; decoded now where it was not), or its error.
-  Texture takeDecoded(int source, const std::string& name) {
-    const auto found = decoded.find(source);
-    if (found == decoded.end()) return decodeTexture(model.images[std::size_t(source)].image, path + ": " + name);
-    if (const std::string* error = std::get_if<std::string>(&found->second)) throw InputError(*error);
-    return std::move(std::get<Texture>(found->second));
+  // Image `source`'s decoded texture, or its error (decodeImages took every image a primitive's
+  // base colour names that has bytes; texture() refuses those without before asking).
+  Texture takeDecoded(int source) {
+    std::variant<Texture, std::string>& result = decoded.at(source);
+    if (const std::string* error = std::get_if<std::string>(&result)) throw InputError(*error);
+    return std::move(std::get<Texture>(result));
   }
 
   std::string imageName(int source) const {
@@ -358,7 +358,7 @@ struct Converter {
     if (image.image.empty()) {
       fail(path, "image '" + name + "' could not be read", "put it in the model's folder or embed it");
     }
-    Texture decoded = takeDecoded(source, name);
+    Texture decoded = takeDecoded(source);
     if (textureBytes + decoded.rgba.size() > kMaxTextureBytes) {
       fail(path, "its textures decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB",
            "downscale the textures");

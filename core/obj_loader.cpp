@@ -146,6 +146,15 @@ Scene loadObj(const std::string& path) {
   }
   scene.origin = world.origin();
   Images images{path, folder, scene, {}, 0};
+  const auto image = [&](int material, std::string tinyobj::material_t::*name) {
+    return material >= 0 && std::size_t(material) < materials.size() ? trimmed(materials[std::size_t(material)].*name)
+                                                                     : std::string();
+  };
+  std::vector<char> textured(materials.size());  // per material: whether it has an image (map_Kd, map_d)
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    textured[m] = !image(int(m), &tinyobj::material_t::alpha_texname).empty() ||
+                  !image(int(m), &tinyobj::material_t::diffuse_texname).empty();
+  }
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const tinyobj::mesh_t& src = shapes[s].mesh;
     const std::string shapeName = shapes[s].name.empty() ? "shape" + std::to_string(s) : shapes[s].name;
@@ -156,14 +165,6 @@ Scene loadObj(const std::string& path) {
       std::unordered_map<std::uint64_t, std::uint32_t> remap;
       std::map<std::array<int, 3>, std::uint32_t> texturedRemap;
       bool allNormals = true;
-    };
-    const auto image = [&](int material, std::string tinyobj::material_t::*name) {
-      return material >= 0 && std::size_t(material) < materials.size() ? trimmed(materials[std::size_t(material)].*name)
-                                                                       : std::string();
-    };
-    const auto textured = [&](int material) {
-      return !image(material, &tinyobj::material_t::alpha_texname).empty() ||
-             !image(material, &tinyobj::material_t::diffuse_texname).empty();
     };
     std::map<int, Part> parts;
     for (std::size_t i = 0; i < src.indices.size(); ++i) {
@@ -180,7 +181,7 @@ Scene loadObj(const std::string& path) {
       Part& part = parts[material];
       const auto next = std::uint32_t(part.mesh.positions.size());
       const std::uint64_t key = std::uint64_t(std::uint32_t(idx.vertex_index)) << 32 | std::uint32_t(idx.normal_index + 1);
-      const bool withUv = textured(material);
+      const bool withUv = material >= 0 && std::size_t(material) < textured.size() && textured[std::size_t(material)];
       std::uint32_t index = next;
       bool inserted = true;
       if (withUv) {

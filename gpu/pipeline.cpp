@@ -174,6 +174,10 @@ GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelin
 
 void GraphicsPipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
   cmd.bindPipeline(vk::PipelineBindPoint::eGraphics, *pipeline_);
+  pushDescriptors(cmd, descriptors);
+}
+
+void GraphicsPipeline::pushDescriptors(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
   descriptors.push(cmd, vk::PipelineBindPoint::eGraphics, layout_);
 }
 

@@ -106,6 +106,8 @@ class GraphicsPipeline {
  public:
   GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc);
   void bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
+  // New descriptors for the next draws, the pipeline staying bound (per-draw textures).
+  void pushDescriptors(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
   template <typename T>
   void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
     cmd.pushConstants<T>(layout_.handle(), layout_.stages(), 0, value);

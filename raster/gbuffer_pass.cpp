@@ -102,19 +102,20 @@ void GBufferPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeometry
   geometry.bind(cmd);
   geometry.drawPlain(cmd);
   const glm::vec4 camera(cameraPosition, 1.0f);
-  // Binds `pipeline` with the colour texture (Descriptors point into themselves: made in place).
-  const auto bind = [&](const gpu::GraphicsPipeline& pipeline, std::int32_t texture) {
+  // Each draw pushes its colour texture to the bound pipeline (Descriptors point into themselves:
+  // made in place).
+  const auto pushTexture = [&](const gpu::GraphicsPipeline& pipeline, std::int32_t texture) {
     gpu::Descriptors color;
     color.sampledImage(GBUFFER_BINDING_COLOR, textures_.view(texture), textures_.sampler());
-    pipeline.bind(cmd, color);
+    pipeline.pushDescriptors(cmd, color);
   };
-  geometry.drawTextured(cmd, [&](const TexturedDraw& draw) {
-    bind(texturedPipeline_, draw.colorTexture);
-    texturedPipeline_.pushConstants(
-        cmd, shared::CutoutDrawPush{.viewProj = view.reversedDepthViewProj, .cameraPosition = camera});
-  });
+  texturedPipeline_.bind(cmd, gpu::Descriptors{});
+  texturedPipeline_.pushConstants(
+      cmd, shared::CutoutDrawPush{.viewProj = view.reversedDepthViewProj, .cameraPosition = camera});
+  geometry.drawTextured(cmd, [&](const TexturedDraw& draw) { pushTexture(texturedPipeline_, draw.colorTexture); });
+  cutoutPipeline_.bind(cmd, gpu::Descriptors{});
   geometry.drawCutouts(cmd, [&](const CutoutDraw& draw) {
-    bind(cutoutPipeline_, draw.colorTexture);
+    pushTexture(cutoutPipeline_, draw.colorTexture);
     cutoutPipeline_.pushConstants(cmd, geometry.cutoutPush(view.reversedDepthViewProj, camera, draw));
   });
   cmd.endRendering();
