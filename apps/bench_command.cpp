@@ -35,9 +35,10 @@ std::vector<std::string> splitValues(const std::string& list, const std::string&
 
 bool relevant(const AxisDef& axis, const std::string& method, const RunOptions& partial, const RunConfig& base,
               float lightSize) {
-  if (std::find(axis.methods.begin(), axis.methods.end(), method) == axis.methods.end()) return false;
-  if (axis.areaLightOnly && lightSize <= 0.0f) return false;
-  if (axis.lineSpaceOnly && method != "ls") {
+  const std::vector<std::string>& methods = axis.axis.methods;
+  if (std::find(methods.begin(), methods.end(), method) == methods.end()) return false;
+  if (axis.axis.areaLightOnly && lightSize <= 0.0f) return false;
+  if (axis.axis.lineSpaceOnly && method != "ls") {
     const std::string* tracer = findParam(partial, "--tracer");
     return (tracer ? *tracer : base.tracer) == "ls";
   }

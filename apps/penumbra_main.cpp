@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/bench_command.h"
+#include "apps/declared_options.h"
 #include "apps/device_command.h"
 #include "apps/report.h"
 #include "apps/run_config.h"
@@ -174,6 +175,8 @@ int main(int argc, char** argv) {
   TuneCommand tune(app);
   VisibilityCommand visibility(app);
   DeviceCommand device(app);
+  CLI::App* options = app.add_subcommand(
+      "options", "Print every pass's, method's and tracer's option as Markdown: docs/options.md is this output");
 
   try {
     app.parse(argc, argv);
@@ -191,6 +194,16 @@ int main(int argc, char** argv) {
     if (tune.parsed()) return tune.run();
     if (visibility.parsed()) return visibility.run();
     if (device.parsed()) return device.run();
+    if (options->parsed()) {
+      std::cout << "# Options of the passes, methods and tracers\n\n"
+                   "Each pass, method and tracer declares its options once, beside its settings (`core/options.h`); "
+                   "`render`, `compare`, `bench` and `tune` take them, `metrics.json` records them under their key, "
+                   "and `bench` sweeps a comma-separated list of values for those that name methods. This page is "
+                   "the output of `build/bin/penumbra options`, and a test keeps it so. Scene, camera, light, "
+                   "tracer and measuring options, with examples: [cli.md](cli.md).\n"
+                << declaredOptionsMarkdown(renderOptions(), RunConfig{}.settings);
+      return 0;
+    }
     return runCommand(config, splitList(methodList), true);
   } catch (const vk::OutOfDeviceMemoryError&) {  // beyond what the estimate foresaw
     return outOfMemory("device memory");

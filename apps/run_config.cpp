@@ -20,7 +20,6 @@
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
 #include "raster/color_textures.h"
-#include "raytrace/ntree_builder.h"
 
 namespace penumbra {
 namespace {
@@ -34,17 +33,6 @@ void parseResolution(const std::string& text, std::uint32_t& width, std::uint32_
   }
   width = w;
   height = h;
-}
-
-std::uint32_t pcfFilter(const std::string& kernel) {
-  if (kernel == "3x3") return FILTER_PCF3;
-  if (kernel == "5x5") return FILTER_PCF5;
-  if (kernel == "poisson") return FILTER_POISSON;
-  throw InputError("--pcf-kernel '" + kernel + "' is not supported; use 3x3, 5x5 or poisson");
-}
-
-void requireFinite(float value, const char* option) {
-  if (!std::isfinite(value)) throw InputError(std::string(option) + " must be a finite number");
 }
 
 // Host memory (lavapipe's device memory) the run's GPU buffers need, estimated before allocating,
@@ -137,44 +125,14 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
                      "ntree the N-tree's line space in exact mode (exact), ntree-ls the N-tree with candidate line "
                      "spaces (--ntree-ls-depth; its bounces' shadow rays on the binary line space)")
       ->capture_default_str();
-  app.add_option("--ray-epsilon", c.rayEpsilon, "Shadow ray origin offset, fraction of the scene radius")->capture_default_str();
-  app.add_flag("--simulate-bandwidth", c.simulateBandwidth,
-               "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
-  addDeclaredOptions(app, c.settings, renderOptions());  // shadow maps, srt, baselines, indirect, ...
+  addDeclaredOptions(app, c.settings, renderOptions());  // shadow maps, srt, baselines, indirect, line space, ...
   app.option_defaults()->group("Soft shadows and denoising");
-  app.add_option("--spp", c.spp, "Light samples per pixel for area lights")->capture_default_str()->check(CLI::Range(1u, 4096u));
-  app.add_option("--denoise", c.denoise,
-                 "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)")
-      ->capture_default_str()->check(CLI::IsMember({"off", "spatial", "temporal"}));
-  app.add_option("--denoise-frames", c.denoiseFrames,
-                 "--denoise temporal: each method renders a sequence from a cut and reports this frame of it (and later "
-                 "ones with --repeat)")
-      ->capture_default_str()->check(CLI::Range(1u, 1000u));
-  app.option_defaults()->group("Baselines: pcf, msm, bitmask");
-  app.add_option("--pcf-kernel", c.pcfKernel, "PCF kernel of method pcf: 3x3, 5x5, poisson")->capture_default_str();
-  app.add_option("--bitmask-receivers", c.bitmaskReceivers,
-                 "Method bitmask: the planar meshes that receive its shadows, comma-separated, at most 4 (default: "
-                 "the planar meshes of at least 1% of the largest one's area)");
-  app.option_defaults()->group("Indirect light: ao, indirect");
-  app.add_option("--ao-radius", c.aoRadius, "Method ao: occlusion radius, fraction of the scene radius")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--ntree-ls-depth", c.ntreeLsDepth,
-                 "Tracer ntree-ls of ao/indirect (the paper's NTree(N,d)+LS(D)): candidate line spaces at the N-tree's "
-                 "(--linespace-n, --linespace-depth) nodes at level D (0..d-1; -1 = d-1) and at shallower nodes with "
-                 "fewer than --ntree-ls-min-triangles triangles; the bounces' shadow rays use the binary line space. "
-                 "Tracer ntree: the same N-tree's line space in exact mode (exact closest hits)")
-      ->capture_default_str()->check(CLI::Range(-1, int(LS_MAX_DEPTH) - 1));
-  app.option_defaults()->group("Line space");
-  app.add_option("--linespace-n", c.linespaceN, "Line space: N-tree branching factor N (4..10)")->capture_default_str();
-  app.add_option("--linespace-depth", c.linespaceDepth, "Line space: N-tree depth d (2..4)")->capture_default_str();
-  app.add_option("--linespace-budget", c.linespaceBudgetMb,
-                 "Line space: memory budget of its pools in MB (0 = a quarter of the available memory)")
-      ->capture_default_str();
-  app.add_option("--ls-shadows,--linespace-shadows", c.linespaceShadows,
-                 "Line space: shadow rays answered by the shaft bits alone (binary: fast, conservative, thin casters "
-                 "shadow as whole cells, no contact shadows) or by the leaf cells' triangles the set bits lead to "
-                 "(exact: the BVH's answer; more memory)")
-      ->capture_default_str();
+  app.add_option(
+         "--denoise-frames", c.denoiseFrames,
+         "--denoise temporal: each method renders a sequence from a cut and reports this frame of it (and later "
+         "ones with --repeat)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000u));
   app.option_defaults()->group("Measuring and output");
   app.add_option("--warmup", c.warmup, "Frames rendered and discarded before the measured one (shader JIT, caches)")
       ->capture_default_str()->check(CLI::Range(0u, 100u));
@@ -238,8 +196,7 @@ std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std
 
 RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
   for (const std::string& m : expandMethods(c, methods)) makeMethod(m);  // unknown names fail before any work
-  for (float v : {c.lightSize, c.rayEpsilon}) requireFinite(v, "numeric options");
-  if (c.rayEpsilon < 0.0f) throw InputError("--ray-epsilon must be >= 0");
+  if (!std::isfinite(c.lightSize)) throw InputError("--light-size must be a finite number");
 
   RunSetup s;
   s.settings = c.settings;  // what the declared options set (the others follow)
@@ -283,41 +240,26 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.lightSizeFraction = c.lightSizeGiven || !view ? c.lightSize : view->lightSizeFraction;
   applyLightSize(s.light, s.lightSizeFraction, bounds);
 
-  s.settings.spp = c.spp;
-  s.settings.denoise.mode = parseDenoiseMode(c.denoise);
   // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
-  s.settings.referenceSpp =
-      c.referenceSpp ? c.referenceSpp : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp : 0u;
-  s.settings.pcfFilter = pcfFilter(c.pcfKernel);
-  if (!c.bitmaskReceivers.empty()) s.settings.bitmask.receivers = splitList(c.bitmaskReceivers);
-  s.settings.rayEpsilon = c.rayEpsilon;
+  s.settings.referenceSpp = c.referenceSpp                                ? c.referenceSpp
+                            : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp
+                                                                          : 0u;
   s.settings.tracer = c.tracer.find(',') == std::string::npos ? c.tracer : "auto";  // a list: ao and indirect only
   if (c.tracer.find(',') == std::string::npos && isIndirectTracer(c.tracer == "auto" ? "bvh" : c.tracer)) {
     s.settings.indirect.tracer = c.tracer == "auto" ? "bvh" : c.tracer;  // bare ao and indirect (bench sweeps it)
   }
-  requireFinite(c.aoRadius, "--ao-radius");
-  s.settings.indirect.aoRadius = c.aoRadius;
-  if (c.ntreeLsDepth >= int(c.linespaceDepth)) {
-    throw InputError("--ntree-ls-depth " + std::to_string(c.ntreeLsDepth) + ": the N-tree's subdivided nodes are at "
-                     "levels 0.." + std::to_string(c.linespaceDepth - 1) + " (--linespace-depth " +
-                     std::to_string(c.linespaceDepth) + "); choose a smaller D or -1 (d - 1)");
+  const int ntreeDepth = s.settings.indirect.ntreeDepth, depth = int(s.settings.lineSpace.depth);
+  if (ntreeDepth >= depth) {
+    throw InputError("--ntree-ls-depth " + std::to_string(ntreeDepth) +
+                     ": the N-tree's subdivided nodes are at levels 0.." + std::to_string(depth - 1) +
+                     " (--linespace-depth " + std::to_string(depth) + "); choose a smaller D or -1 (d - 1)");
   }
-  s.settings.indirect.ntreeDepth = c.ntreeLsDepth < 0 ? NTreeCandidateSettings::kSecondToLast : std::uint32_t(c.ntreeLsDepth);
-  // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth.
+  // Every tracer with an N-tree or a line space takes --linespace-n / --linespace-depth and its budget.
   bool lineSpace = std::find(methods.begin(), methods.end(), "ls") != methods.end();
   for (const std::string& t : c.tracer.empty() ? std::vector<std::string>{} : splitList(c.tracer)) {
     lineSpace = lineSpace || t == "ls" || t == "bvh-ls" || t.rfind("ntree", 0) == 0;
   }
-  if (lineSpace) NTreeBuilder::validate(c.linespaceN, c.linespaceDepth);
-  if (!std::isfinite(c.linespaceBudgetMb) || c.linespaceBudgetMb < 0.0) {
-    throw InputError("--linespace-budget must be a number of MB >= 0 (0 = a quarter of the available memory)");
-  }
-  s.settings.lineSpace.n = c.linespaceN;
-  s.settings.lineSpace.depth = c.linespaceDepth;
-  s.settings.lineSpace.budgetBytes = std::uint64_t(c.linespaceBudgetMb * 1e6);
-  s.settings.lineSpace.shadows = parseShadows(c.linespaceShadows);  // InputError for an unknown mode
   s.settings.pip.explain = c.explainMisses;
-  s.settings.simulateBandwidth = c.simulateBandwidth;
 
   MemoryEstimate need = estimateBytes(s.settings, s.scene.triangleCount(), lineSpace);
   // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h); the
@@ -341,17 +283,13 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
                      {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},
                      {"light_size", s.lightSizeFraction},
                      {"time", s.time},
-                     {"spp", s.settings.spp},
-                     {"pcf_kernel", c.pcfKernel},
-                     {"bitmask", {{"receivers", s.settings.bitmask.receivers}}},
                      {"warmup_frames", c.warmup},
                      {"tracer", c.tracer},
-                     {"denoise", c.denoise},
                      {"denoise_frames", c.denoiseFrames},
                      {"warnings", s.scene.warnings},
                      {"device", context.deviceName()},
                      {"driver", context.driverInfo()}};
-  recordDeclaredOptions(run, s.settings, renderOptions());  // shadow_map_res, pip/delta, srt_choice, ...
+  recordDeclaredOptions(run, s.settings, renderOptions());  // spp, shadow_map_res, pip/delta, denoise, ...
   return run;
 }
 

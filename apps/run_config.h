@@ -26,28 +26,18 @@ struct RunConfig {
   bool lightSizeGiven = false;
   double time = 0.0;  // animated scenes: pose at this many seconds
   bool timeGiven = false;
-  std::uint32_t spp = 16, referenceSpp = 0;
+  std::uint32_t referenceSpp = 0;
   std::string resolution = "256x256";
-  std::string pcfKernel = "3x3";
-  std::string bitmaskReceivers;    // method bitmask: the receiver meshes, comma-separated (empty: detected)
-  float rayEpsilon = 1e-4f;
   std::uint32_t warmup = 1;  // frames rendered and discarded before the measured ones
   std::uint32_t repeat = 1;  // measured frames; the median one is reported, with the spread
   std::string csv;           // compare: append one row per method to this CSV file
   bool noReport = false;     // compare: skip report.html (report.py and matplotlib)
   std::string tracer = "auto";  // one tracer, or for methods ao and indirect a comma-separated list
-  float aoRadius = 0.1f;            // ao: fraction of the scene radius
-  int ntreeLsDepth = -1;            // tracer ntree-ls: N-tree level D of the candidate line spaces (-1: d - 1)
-  std::uint32_t linespaceN = 6, linespaceDepth = 3;  // tracer ls / method ls: N-tree branching and depth
-  double linespaceBudgetMb = 0.0;                   // line-space pools; 0 = a quarter of available memory
-  std::string linespaceShadows = "binary";          // line space: binary (shaft bits) or exact (leaf triangles)
   bool explainMisses = false;  // compare: why srt left out each pixel sm gets wrong (hard shadows)
   bool validate = false;
-  bool simulateBandwidth = false;  // srt/frt on bvh: simulated trace memory traffic in the stats
-  std::string denoise = "off";     // srt/frt with an area light: off, spatial, temporal (hybrid/denoise_pass.h)
   std::uint32_t denoiseFrames = 8;  // temporal: the frame of the sequence (after a cut) that is measured
   std::string outDir = "out";
-  // What the declared options set (renderOptions(): shadow maps, classification, srt's path), with
+  // What the declared options set (renderOptions(): every pass's, method's and tracer's settings), with
   // the command line's defaults: srt chooses its path per frame (--srt-choice auto).
   RenderSettings settings = [] {
     RenderSettings s;

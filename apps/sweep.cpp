@@ -94,7 +94,7 @@ std::uint32_t referenceSppOf(const Sweep& sweep, const std::vector<SweepConfig>&
   for (const SweepConfig& c : configs) {
     if (const std::string* v = findParam(c.params, "--spp")) spp = std::max<std::uint32_t>(spp, std::stoul(*v));
   }
-  return spp ? spp : sweep.base.spp;
+  return spp ? spp : sweep.base.settings.spp;
 }
 
 // Methods ao and indirect are compared with Embree's run of the same rays: the references a

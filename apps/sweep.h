@@ -1,7 +1,7 @@
 // The sweep engine of `penumbra bench` and `penumbra tune`: every configuration gets a warm-up,
 // repeated frames (median reported with min/max) and its error against the Embree reference of its
-// scene and light; rows carry machine, driver and device. The parameters a sweep can vary are listed
-// once (sweepAxes), with the methods each one changes.
+// scene and light; rows carry machine, driver and device. The parameters a sweep can vary are the
+// declared options that say so (core/options.h: SweepAxis), and --tracer.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -13,22 +13,21 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/run_config.h"
+#include "core/options.h"
 
 namespace penumbra {
 
 // A parameter axis: the bench option naming its list, the run option it sets, the methods it changes
 // (other methods are not re-run for each value), and the short name used in chart labels.
 struct AxisDef {
-  const char* names;   // CLI11 names of the bench option
-  const char* option;  // the run option (addRunOptions) it sets
-  const char* shortName;
-  std::vector<std::string> methods;
-  bool areaLightOnly = false;  // samples per pixel mean nothing for a point light
-  bool lineSpaceOnly = false;  // only with the line-space tracer (method ls, or srt/frt with --tracer ls)
-  const char* help = "";
+  std::string names;   // CLI11 names of the bench option
+  std::string option;  // the run option (addRunOptions) it sets
+  SweepAxis axis;      // short name, methods, when it applies
+  std::string help;
 };
 
-// Every sweepable parameter. Order matters: --tracer comes before the line-space axes, which depend on it.
+// Every sweepable parameter: --tracer first (the line-space axes depend on it), then the declared
+// options that can be swept, in their order.
 const std::vector<AxisDef>& sweepAxes();
 
 // Run options as the command line spells them, e.g. {"--shadow-map-res", "1024"}.

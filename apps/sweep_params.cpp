@@ -1,35 +1,30 @@
-// The parameters a sweep varies (apps/sweep.h): the axes and the methods each one changes, a
+// The parameters a sweep varies (apps/sweep.h): the axes (the declared options that can be swept), a
 // parameter's text in chart labels, and run options applied through the parser `render` uses.
 #include <algorithm>
 #include <charconv>
 
 #include "apps/sweep.h"
+#include "hybrid/render_settings.h"
 
 namespace penumbra {
 
 const std::vector<AxisDef>& sweepAxes() {
-  static const std::vector<AxisDef> axes{
-      {"--sm-res,--shadow-map-res", "--shadow-map-res", "res", {"sm", "pcf", "pcss", "msm", "srt"}, false, false,
-       "Shadow-map resolutions, e.g. 1024,2048 (sm, pcf, pcss, msm, srt)"},
-      {"--pcf-kernel", "--pcf-kernel", "", {"pcf"}, false, false, "PCF kernels, e.g. 3x3,5x5,poisson (pcf)"},
-      {"--pip-delta", "--pip-delta", "delta", {"srt"}, false, false, "PIP depth-edge thresholds, e.g. 0.001,0.002 (srt)"},
-      {"--pip-margin", "--pip-margin", "margin", {"srt"}, false, false, "PIP receiver margins in texels (srt)"},
-      {"--msm-maps", "--msm-maps", "K", {"msm"}, false, false, "Maps averaged by msm, e.g. 4,16"},
-      {"--penumbra-maps", "--penumbra-maps", "pmaps", {"srt"}, true, false,
-       "Maps of srt's penumbra mask with area lights: 1 (centre), 5 (and corners)"},
-      {"--spp", "--spp", "spp", {"srt", "frt", "ls", "bitmask"}, true, false,
-       "Light samples per pixel with area lights, e.g. 4,16 (srt, frt, ls, bitmask)"},
-      {"--tracer", "--tracer", "", {"srt", "frt", "ao", "indirect"}, false, false,
-       "Ray tracers of srt and frt, e.g. bvh,rq,embree; of ao and indirect, e.g. bvh,bvh-ls,ntree-ls"},
-      {"--denoise", "--denoise", "denoise", {"srt", "frt"}, true, false,
-       "Shadow denoiser of srt and frt with area lights, e.g. off,temporal"},
-      {"--linespace-n", "--linespace-n", "N", {"srt", "frt", "ls"}, false, true,
-       "Line-space subdivision N per level (with the line-space tracer), e.g. 4,6,8"},
-      {"--linespace-depth", "--linespace-depth", "d", {"srt", "frt", "ls"}, false, true,
-       "Line-space tree depth d (with the line-space tracer), e.g. 2,3"},
-      {"--bitmask-samples", "--bitmask-samples", "samples", {"bitmask"}, false, false,
-       "Bitmask visibility samples (method bitmask)"},
-  };
+  static const std::vector<AxisDef> axes = [] {
+    std::vector<AxisDef> a{
+        {"--tracer",
+         "--tracer",
+         {"", {"srt", "frt", "ao", "indirect"}},
+         "Ray tracers of srt and frt, e.g. bvh,rq,embree; of ao and indirect, e.g. bvh,bvh-ls,ntree-ls"}};
+    for (const Option<RenderSettings>& o : renderOptions().all()) {
+      if (!o.sweep) continue;
+      const std::string name = o.name.substr(0, o.name.find(','));
+      std::string methods;
+      for (const std::string& m : o.sweep->methods) methods += (methods.empty() ? "" : ", ") + m;
+      a.push_back({o.sweep->alias.empty() ? name : o.sweep->alias + "," + name, name, *o.sweep,
+                   "Values of " + name + ", comma-separated (" + methods + "): " + o.help});
+    }
+    return a;
+  }();
   return axes;
 }
 
@@ -37,7 +32,7 @@ namespace {
 
 std::string shortName(const std::string& option) {
   for (const AxisDef& axis : sweepAxes()) {
-    if (option == axis.option) return axis.shortName;
+    if (option == axis.option) return axis.axis.shortName;
   }
   return option.substr(option.find_first_not_of('-'));
 }

@@ -176,7 +176,7 @@ int TuneCommand::run() {
   sweep.scenes = {base_.scene};
   sweep.lightSizes = {base_.lightSize};
   sweep.configsFor = candidatesFor;
-  sweep.referenceSpp = base_.referenceSpp ? base_.referenceSpp : base_.spp;
+  sweep.referenceSpp = base_.referenceSpp ? base_.referenceSpp : base_.settings.spp;
   sweep.interleave = true;  // the choice compares times: measure them under the same load
   const SweepResult result = runSweep(sweep);
 

@@ -4,7 +4,6 @@
 #include <tiny_gltf.h>  // implementation lives in the shared libtinygltf
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -17,12 +16,8 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <iterator>
 #include <limits>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <set>
-#include <thread>
-#include <variant>
 
 #include "core/gltf_accessor.h"
 #include "core/gltf_animation.h"
@@ -30,6 +25,7 @@
 #include "core/gltf_draco.h"
 #include "core/gltf_meshopt.h"
 #include "core/gltf_rewrite.h"
+#include "core/gltf_textures.h"
 #include "core/scene_loader.h"
 #include "core/texture.h"
 
@@ -100,47 +96,6 @@ bool fsWriteWholeFile(std::string* err, const std::string&, const std::vector<un
   return false;
 }
 
-// Images stay encoded as tinygltf reads them: only those a material uses as its base colour are
-// decoded (Converter::texture), so images for other maps (normals, roughness) cost nothing.
-bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
-                      int size, void*) {
-  image->image.assign(bytes, bytes + std::max(size, 0));
-  image->as_is = true;
-  return true;
-}
-
-// A texture reference's KHR_texture_transform (offset, rotation, scale, composed T * R * S, and the
-// texCoord set it may select instead); identity without the extension.
-struct TextureTransform {
-  glm::dvec2 offset{0.0}, scale{1.0};
-  double rotation = 0.0;
-  int texCoord = 0;
-
-  explicit TextureTransform(const tinygltf::TextureInfo& info) : texCoord(info.texCoord) {
-    const auto ext = info.extensions.find("KHR_texture_transform");
-    if (ext == info.extensions.end() || !ext->second.IsObject()) return;
-    const tinygltf::Value& t = ext->second;
-    const auto number = [](const tinygltf::Value& v, double fallback) { return v.IsNumber() ? v.GetNumberAsDouble() : fallback; };
-    const auto pair = [&](const char* key, glm::dvec2 fallback) {
-      const tinygltf::Value& v = t.Get(key);
-      return v.IsArray() && v.ArrayLen() == 2 ? glm::dvec2(number(v.Get(0), fallback.x), number(v.Get(1), fallback.y))
-                                              : fallback;
-    };
-    offset = pair("offset", offset);
-    scale = pair("scale", scale);
-    rotation = number(t.Get("rotation"), 0.0);
-    if (t.Get("texCoord").IsNumber()) texCoord = t.Get("texCoord").GetNumberAsInt();
-  }
-
-  void bake(std::vector<glm::vec2>& uvs) const {
-    const double c = std::cos(rotation), s = std::sin(rotation);
-    for (glm::vec2& uv : uvs) {
-      const glm::dvec2 scaled = glm::dvec2(uv) * scale;
-      uv = glm::vec2(offset.x + c * scaled.x + s * scaled.y, offset.y - s * scaled.x + c * scaled.y);
-    }
-  }
-};
-
 // A unit direction under a transform's linear part (`local` itself if it collapses or overflows).
 glm::vec3 worldDirection(const glm::dmat3& linear, const glm::vec3& local) {
   const glm::vec3 d(linear * glm::dvec3(local));
@@ -175,10 +130,7 @@ struct Converter {
   };
   std::vector<LightNode> lightNodes;
   std::optional<glm::dmat4> cameraWorld;
-  std::map<int, std::int32_t> imageTexture;  // glTF image -> Scene::textures index, once decoded
-  std::set<int> warnedTextures;              // colour textures that could not be had, warned of once
-  std::map<int, std::variant<Texture, std::string>> decoded;  // glTF image -> its texture or error (decodeImages)
-  std::uint64_t textureBytes = 0;
+  std::optional<gltf::Textures> textures;  // made by run()
   float yfov = 0.0f;
   bool warnedOrtho = false;
 
@@ -228,7 +180,7 @@ struct Converter {
       const bool cut = material.alphaMode == "MASK" || material.alphaMode == "BLEND";
       const tinygltf::TextureInfo& info = material.pbrMetallicRoughness.baseColorTexture;
       if (info.index >= 0 && readTextureCoordinates(prim, info, out)) {
-        out.colorTexture = texture(info.index, material.alphaMode == "MASK");
+        out.colorTexture = textures->texture(info.index, material.alphaMode == "MASK");
       }
       if (cut) addCutout(material, out);
     }
@@ -240,7 +192,7 @@ struct Converter {
   // The base colour texture's coordinates (its texCoord set, KHR_texture_transform baked in) into
   // out.uvs; false, with a warning, when the primitive lacks that set.
   bool readTextureCoordinates(const tinygltf::Primitive& prim, const tinygltf::TextureInfo& info, Mesh& out) {
-    const TextureTransform transform(info);
+    const gltf::TextureTransform transform(info);
     const std::string set = "TEXCOORD_" + std::to_string(transform.texCoord);
     const auto uv = prim.attributes.find(set);
     if (uv == prim.attributes.end()) {
@@ -265,107 +217,6 @@ struct Converter {
     }
     cutout.texture = out.colorTexture;
     out.cutout = cutout;
-  }
-
-  // Every image a primitive's material takes its base colour from, decoded before the walk on all
-  // cores (decoding is most of loading a textured model); what failed keeps its error for texture().
-  void decodeImages() {
-    std::vector<int> sources;
-    for (const tinygltf::Mesh& mesh : model.meshes) {
-      for (const tinygltf::Primitive& prim : mesh.primitives) {
-        if (prim.material < 0 || std::size_t(prim.material) >= model.materials.size()) continue;
-        const int t = model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index;
-        if (t < 0 || std::size_t(t) >= model.textures.size()) continue;
-        const int source = model.textures[std::size_t(t)].source;
-        if (source >= 0 && std::size_t(source) < model.images.size() &&
-            !model.images[std::size_t(source)].image.empty()) {
-          sources.push_back(source);
-        }
-      }
-    }
-    std::sort(sources.begin(), sources.end());
-    sources.erase(std::unique(sources.begin(), sources.end()), sources.end());
-    std::vector<std::variant<Texture, std::string>> results(sources.size());
-    std::atomic<std::size_t> next{0};
-    const auto work = [&] {
-      for (std::size_t i; (i = next++) < sources.size();) {
-        const tinygltf::Image& image = model.images[std::size_t(sources[i])];
-        try {
-          results[i] = decodeTexture(image.image, path + ": " + imageName(sources[i]));
-        } catch (const InputError& e) {
-          results[i] = std::string(e.what());
-        }
-      }
-    };
-    std::vector<std::jthread> workers(
-        std::min<std::size_t>(sources.size(), std::max(1u, std::thread::hardware_concurrency())));
-    for (std::jthread& w : workers) w = std::jthread(work);
-    workers.clear();  // joins
-    for (std::size_t i = 0; i < sources.size(); ++i) decoded.emplace(sources[i], std::move(results[i]));
-  }
-
-  // Image `source`'s decoded texture, or its error (decodeImages took every image a primitive's
-  // base colour names that has bytes; texture() refuses those without before asking).
-  Texture takeDecoded(int source) {
-    std::variant<Texture, std::string>& result = decoded.at(source);
-    if (const std::string* error = std::get_if<std::string>(&result)) throw InputError(*error);
-    return std::move(std::get<Texture>(result));
-  }
-
-  std::string imageName(int source) const {
-    const tinygltf::Image& image = model.images[std::size_t(source)];
-    return !image.uri.empty()    ? (image.uri.rfind("data:", 0) == 0 ? "data URI " + std::to_string(source) : image.uri)
-           : !image.name.empty() ? image.name
-                                 : "image " + std::to_string(source);
-  }
-
-  // The scene texture of glTF texture `index`, its image decoded once however many materials use it.
-  // Where the image cannot be had, a `required` one (MASK's) fails with InputError; any other warns
-  // and returns -1 (the mesh keeps its base colour, and a BLEND mesh its alpha factor alone).
-  std::int32_t texture(int index, bool required) {
-    try {
-      return decodedTexture(index);
-    } catch (const InputError& e) {
-      if (required) throw;
-      if (warnedTextures.insert(index).second) {
-        scene.warnings.push_back(std::string(e.what()) +
-                                 " (only colour and translucency are lost: drawn in its base colour)");
-      }
-      return -1;
-    }
-  }
-
-  std::int32_t decodedTexture(int index) {
-    if (std::size_t(index) >= model.textures.size()) {
-      fail(path, "texture " + std::to_string(index) + " does not exist", "the file is corrupt; re-export it");
-    }
-    const tinygltf::Texture& texture = model.textures[std::size_t(index)];
-    const int source = texture.source;
-    if (source < 0 || std::size_t(source) >= model.images.size()) {
-      fail(path, "texture " + std::to_string(index) + " has no image (or a KHR/EXT image format this loader lacks)",
-           "re-export it with PNG or JPEG images");
-    }
-    if (const auto known = imageTexture.find(source); known != imageTexture.end()) return known->second;
-    if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size()) {
-      const tinygltf::Sampler& sampler = model.samplers[std::size_t(texture.sampler)];
-      if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT) {
-        scene.warnings.push_back("glTF texture " + std::to_string(index) +
-                                 " clamps or mirrors; every method repeats it (docs/methods.md)");
-      }
-    }
-    const tinygltf::Image& image = model.images[std::size_t(source)];
-    const std::string name = imageName(source);
-    if (image.image.empty()) {
-      fail(path, "image '" + name + "' could not be read", "put it in the model's folder or embed it");
-    }
-    Texture decoded = takeDecoded(source);
-    if (textureBytes + decoded.rgba.size() > kMaxTextureBytes) {
-      fail(path, "its textures decode to over " + std::to_string(kMaxTextureBytes >> 30) + " GiB",
-           "downscale the textures");
-    }
-    textureBytes += decoded.rgba.size();
-    scene.textures.push_back(std::move(decoded));
-    return imageTexture[source] = std::int32_t(scene.textures.size() - 1);
   }
 
   void addLight(const tinygltf::Node& node, const glm::dmat4& world) {
@@ -475,7 +326,7 @@ struct Converter {
   }
 
   void run() {
-    decodeImages();
+    textures.emplace(model, path, scene);  // decodes the base colours' images on all cores
     onPath.assign(model.nodes.size(), 0);
     for (int root : roots()) visit(root);
     const glm::dmat4 toScene = placeMeshes(scene, meshWorld);
@@ -558,7 +409,7 @@ Scene loadGltf(const std::string& path) {
 
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &ctx});
-  loader.SetImageLoader(&keepEncodedImage, nullptr);
+  loader.SetImageLoader(&gltf::keepEncodedImage, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool ok = binary || !compression.empty()

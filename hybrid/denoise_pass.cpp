@@ -51,11 +51,16 @@ float historyFrames(const shared::GpuLight& light, const shared::GpuLight& previ
 
 }  // namespace
 
-DenoiseMode parseDenoiseMode(const std::string& name) {
-  if (name == "off") return DenoiseMode::Off;
-  if (name == "spatial") return DenoiseMode::Spatial;
-  if (name == "temporal") return DenoiseMode::Temporal;
-  throw InputError("unknown --denoise '" + name + "'; use off, spatial or temporal");
+const Options<DenoiseSettings>& denoiseOptions() {
+  static const Options<DenoiseSettings> options = [] {
+    Options<DenoiseSettings> o("Soft shadows and denoising");
+    o.choice("--denoise", "denoise", &DenoiseSettings::mode,
+             "srt/frt with an area light: filter the shadow inside the penumbra (spatial) and over frames (temporal)",
+             {{"off", DenoiseMode::Off}, {"spatial", DenoiseMode::Spatial}, {"temporal", DenoiseMode::Temporal}})
+        .sweep("denoise", {"srt", "frt"}, true);
+    return o;
+  }();
+  return options;
 }
 
 std::string denoiseModeName(DenoiseMode mode) {

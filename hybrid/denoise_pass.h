@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/camera.h"
+#include "core/options.h"
 #include "gpu/pipeline.h"
 #include "raster/gbuffer_pass.h"
 #include "shared/light.h"
@@ -19,7 +20,6 @@
 namespace penumbra {
 
 enum class DenoiseMode { Off, Spatial, Temporal };
-DenoiseMode parseDenoiseMode(const std::string& name);  // off | spatial | temporal; InputError otherwise
 std::string denoiseModeName(DenoiseMode mode);
 
 struct DenoiseSettings {
@@ -49,6 +49,9 @@ struct DenoiseSettings {
   float targetSamples = 64.0f;  // light samples the spatial filter gathers per pixel (with earlier frames')
   float widthFraction = 0.25f;  // its radius stays below this fraction of the penumbra's width
 };
+
+// The command line's options of the denoiser (--denoise).
+const Options<DenoiseSettings>& denoiseOptions();
 
 class DenoisePass {
  public:

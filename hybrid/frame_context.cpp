@@ -114,7 +114,8 @@ const NTreeCandidateTracer& FrameContext::ntreeCandidateTracer(FrameStats& stats
   if (!ntreeLs_) {
     NTreeCandidateSettings s;
     s.lineSpace = settings_.lineSpace;
-    s.depth = settings_.indirect.ntreeDepth;
+    const int depth = settings_.indirect.ntreeDepth;
+    s.depth = depth < 0 ? NTreeCandidateSettings::kSecondToLast : std::uint32_t(depth);
     s.minTriangles = settings_.indirect.ntreeMinTriangles;
     s.maxNormalDeviationDeg = settings_.indirect.maxDeviationDeg;
     ntreeLs_ = std::make_unique<NTreeCandidateTracer>(context_, scene_, s);

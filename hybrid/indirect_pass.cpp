@@ -91,6 +91,8 @@ const Options<IndirectSettings>& indirectOptions() {
   static const Options<IndirectSettings> options = [] {
     using S = IndirectSettings;
     Options<S> o("Indirect light: ao, indirect");
+    o.number("--ao-radius", "indirect/ao_radius", &S::aoRadius,
+             "Method ao: occlusion radius, fraction of the scene radius", 1e-6f);
     o.number("--indirect-rays", "indirect/rays", &S::rays, "Methods ao and indirect: cosine-weighted rays per pixel", 1u,
              INDIRECT_MAX_RAYS);
     o.choice("--hit-light", "indirect/hit_light", &S::hitShadowMap,
@@ -101,6 +103,12 @@ const Options<IndirectSettings>& indirectOptions() {
              "Tracer bvh-ls of ao/indirect: candidate line spaces (N = --linespace-n) at the BVH's inner nodes at this "
              "depth (root 0); deeper = closer to exact, more memory",
              0u, 30u);
+    o.number("--ntree-ls-depth", "indirect/ntree_ls_depth", &S::ntreeDepth,
+             "Tracer ntree-ls of ao/indirect (the paper's NTree(N,d)+LS(D)): candidate line spaces at the N-tree's "
+             "(--linespace-n, --linespace-depth) nodes at level D (0..d-1; -1 = d-1) and at shallower nodes with "
+             "fewer than --ntree-ls-min-triangles triangles; the bounces' shadow rays use the binary line space. "
+             "Tracer ntree: the same N-tree's line space in exact mode (exact closest hits)",
+             -1, int(LS_MAX_DEPTH) - 1);
     o.number("--ntree-ls-min-triangles", "indirect/ntree_ls_min_triangles", &S::ntreeMinTriangles,
              "Tracer ntree-ls: shallower N-tree nodes with fewer triangles than this get a line space too (0: none)");
     o.number("--candidate-deviation", "indirect/candidate_deviation_deg", &S::maxDeviationDeg,

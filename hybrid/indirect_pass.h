@@ -33,15 +33,15 @@ struct IndirectSettings {
   // this depth, and the normal test of their plane hits.
   std::uint32_t bvhDepth = 9;
   // ntree-ls: candidate line spaces at the N-tree's (N, d from RenderSettings::lineSpace) nodes at
-  // this level (kSecondToLast: d - 1) and at shallower nodes with fewer than this many triangles.
-  std::uint32_t ntreeDepth = NTreeCandidateSettings::kSecondToLast;
+  // this level (-1: d - 1) and at shallower nodes with fewer than this many triangles.
+  int ntreeDepth = -1;
   std::uint32_t ntreeMinTriangles = 8;
   float maxDeviationDeg = 30.0f;
   bool hitShadowMap = false;  // indirect: the bounces' hits see the light through the shadow map, not a shadow ray
 };
 
-// The command line's options of methods ao and indirect (--indirect-rays, ...; --ao-radius,
-// --ntree-ls-depth and the tracer list are parsed with the run).
+// The command line's options of methods ao and indirect (--indirect-rays, --ao-radius, ...; the
+// tracer list is parsed with the run).
 const Options<IndirectSettings>& indirectOptions();
 
 // What the kernels read and write: the camera's G-buffer, the light's map (for hits that look the

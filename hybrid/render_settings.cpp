@@ -18,6 +18,11 @@ const Options<RenderSettings>& renderOptions() {
              {{"on", true}, {"off", false}});
     o.add(&S::pip, raster::pipOptions());
     o.add(&S::thin, raster::thinOptions());
+    o.group("Ray tracing");
+    o.number("--ray-epsilon", "ray_epsilon", &S::rayEpsilon, "Shadow ray origin offset, fraction of the scene radius",
+             0.0f);
+    o.flag("--simulate-bandwidth", "simulate_bandwidth", &S::simulateBandwidth,
+           "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
     o.group("Selective ray tracing (srt)");
     o.choice("--srt-choice", "srt_choice", &S::srtChoice,
              "srt per frame: auto takes the cheaper of its two paths by its own measurements of both (classify and "
@@ -25,11 +30,20 @@ const Options<RenderSettings>& renderOptions() {
              "again), off always classifies",
              {{"auto", true}, {"off", false}});
     o.group("Soft shadows and denoising");
+    o.number("--spp", "spp", &S::spp, "Light samples per pixel for area lights", 1u, 4096u)
+        .sweep("spp", {"srt", "frt", "ls", "bitmask"}, true);
+    o.add(&S::denoise, denoiseOptions());
     o.flag("--shared-samples", "shared_samples", &S::sharedSamples,
            "Every pixel uses the same light samples, the pattern method bitmask looks up, so that ref, frt and srt see "
            "bitmask's samples (default: a pattern per pixel)");
     o.group("Baselines: pcf, msm, bitmask");
-    o.number("--msm-maps", "msm_maps", &S::msmMaps, "Shadow maps (light samples) averaged by method msm", 1u, 256u);
+    o.choice("--pcf-kernel", "pcf_kernel", &S::pcfFilter, "PCF kernel of method pcf",
+             {{"3x3", std::uint32_t(FILTER_PCF3)},
+              {"5x5", std::uint32_t(FILTER_PCF5)},
+              {"poisson", std::uint32_t(FILTER_POISSON)}})
+        .sweep("", {"pcf"});
+    o.number("--msm-maps", "msm_maps", &S::msmMaps, "Shadow maps (light samples) averaged by method msm", 1u, 256u)
+        .sweep("K", {"msm"});
     o.add(&S::bitmask, raster::bitmaskOptions());
     o.add(&S::indirect, indirectOptions());
     o.add(&S::lineSpace, lineSpaceOptions());

@@ -79,6 +79,10 @@ const Options<BitmaskSettings>& bitmaskOptions() {
     Options<S> o("Baselines: pcf, msm, bitmask");
     o.number("--bitmask-res", "bitmask/resolution", &S::resolution,
              "Method bitmask: texels per side of the receiver's hidden-samples map", 16u, 4096u);
+    o.list("--bitmask-receivers", "bitmask/receivers", &S::receivers,
+           "Method bitmask: the planar meshes that receive its shadows, comma-separated, at most 4 (default: the "
+           "planar meshes of at least 1% of the largest one's area)",
+           kMaxBitmaskReceivers);
     o.choice("--bitmask-fallback", "bitmask/fallback", &S::fallback,
              "Method bitmask: how pixels off the receiver are answered: srt (classified, only doubtful ones traced) or "
              "frt (all traced)",

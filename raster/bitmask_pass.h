@@ -37,8 +37,7 @@ struct BitmaskSettings {
   bool decorrelate = false;        // each texel sees the pattern under one of the square's symmetries (texelSymmetry)
 };
 
-// The command line's options of method bitmask (--bitmask-res, ...; --bitmask-receivers is parsed
-// with the scene).
+// The command line's options of method bitmask (--bitmask-res, --bitmask-receivers, ...).
 const Options<BitmaskSettings>& bitmaskOptions();
 
 // The Hough table (bitmask_table.comp) of the shared pattern's samples under one light: built when

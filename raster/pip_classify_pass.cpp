@@ -27,12 +27,15 @@ const Options<PipSettings>& pipOptions() {
   static const Options<PipSettings> options = [] {
     Options<PipSettings> o("Selective ray tracing (srt)");
     o.number("--pip-delta", "pip/delta", &PipSettings::deltaFraction,
-             "PIP depth-edge threshold, fraction of the light's depth range", 0.0f);
+             "PIP depth-edge threshold, fraction of the light's depth range", 0.0f)
+        .sweep("delta", {"srt"});
     o.number("--pip-margin", "pip/margin_texels", &PipSettings::marginTexels,
-             "PIP receiver depth interval widened by this many texels", 0.0f);
+             "PIP receiver depth interval widened by this many texels", 0.0f)
+        .sweep("margin", {"srt"});
     o.choice("--penumbra-maps", "pip/penumbra_maps", &PipSettings::penumbraMaps,
              "Area lights: penumbra mask from the centre's shadow map (1) or also the four corners' (5)",
-             {{"1", 1u}, {"5", 5u}});
+             {{"1", 1u}, {"5", 5u}})
+        .sweep("pmaps", {"srt"}, true);
     o.flag("--no-thin", "pip/thin_pass", &PipSettings::thinPass, "Turn off the thin-triangle conservative pass of srt",
            false);
     o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,

@@ -36,7 +36,8 @@ const Options<ShadowMapSettings>& shadowMapOptions() {
     using S = ShadowMapSettings;
     Options<S> o("Shadow maps");
     o.number("--shadow-map-res", "shadow_map_res", &S::resolution, "Shadow map texels per side (per cube face)", 16u,
-             16384u);
+             16384u)
+        .sweep("res", {"sm", "pcf", "pcss", "msm", "srt"}, false, false, "--sm-res");
     o.number("--depth-bias", "shadow_map/depth_bias", &S::depthBiasConstant,
              "Shadow map constant depth bias (rasterizer units)");
     o.number("--slope-bias", "shadow_map/slope_bias", &S::depthBiasSlope, "Shadow map slope-scaled depth bias");

@@ -18,7 +18,20 @@ namespace penumbra {
 
 const Options<LineSpaceSettings>& lineSpaceOptions() {
   static const Options<LineSpaceSettings> options = [] {
-    Options<LineSpaceSettings> o("Line space");
+    using S = LineSpaceSettings;
+    Options<S> o("Line space");
+    o.number("--linespace-n", "line_space/n", &S::n, "Line space: N-tree branching factor N", LS_MIN_N, LS_MAX_N)
+        .sweep("N", {"srt", "frt", "ls"}, false, true);
+    o.number("--linespace-depth", "line_space/depth", &S::depth, "Line space: N-tree depth d", LS_MIN_DEPTH,
+             LS_MAX_DEPTH)
+        .sweep("d", {"srt", "frt", "ls"}, false, true);
+    o.megabytes("--linespace-budget", "line_space/budget_mb", &S::budgetBytes,
+                "Line space: memory budget of its pools in MB (0 = a quarter of the available memory)");
+    o.choice("--ls-shadows,--linespace-shadows", "line_space/shadows", &S::shadows,
+             "Line space: shadow rays answered by the shaft bits alone (binary: fast, conservative, thin casters "
+             "shadow as whole cells, no contact shadows) or by the leaf cells' triangles the set bits lead to "
+             "(exact: the BVH's answer; more memory)",
+             {{"binary", S::Shadows::Binary}, {"exact", S::Shadows::Exact}});
     o.number("--linespace-offset", "line_space/offset_cells", &LineSpaceSettings::startOffsetCells,
              "Line space: ignore occluders within this many leaf cells of the receiver's surface (0 = the paper's "
              "start-node rule alone)",
@@ -29,14 +42,6 @@ const Options<LineSpaceSettings>& lineSpaceOptions() {
 }
 const char* shadowsName(LineSpaceSettings::Shadows shadows) {
   return shadows == LineSpaceSettings::Shadows::Exact ? "exact" : "binary";
-}
-
-LineSpaceSettings::Shadows parseShadows(const std::string& name) {
-  if (name == "binary") return LineSpaceSettings::Shadows::Binary;
-  if (name == "exact") return LineSpaceSettings::Shadows::Exact;
-  throw InputError("line space: unknown shadow mode '" + name +
-                   "' (--ls-shadows); use binary (a set shaft bit means occluded) or exact (test the leaf cells' "
-                   "triangles)");
 }
 
 LineSpaceSizes lineSpaceSizes(std::uint32_t n, std::uint64_t nodes, std::uint64_t groups, std::uint64_t leaves,

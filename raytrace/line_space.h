@@ -42,13 +42,10 @@ struct LineSpaceSettings {
   enum class Shadows { Binary, Exact } shadows = Shadows::Binary;
 };
 
-// The command line's options of the line space that need no other to check them (--linespace-offset;
-// N, d, the budget and the shadow mode are parsed with the run).
+// The command line's options of the line space (--linespace-n, --linespace-depth, --ls-shadows, ...).
 const Options<LineSpaceSettings>& lineSpaceOptions();
 
-// "binary" / "exact" and back; parseShadows throws InputError naming the valid values.
-const char* shadowsName(LineSpaceSettings::Shadows shadows);
-LineSpaceSettings::Shadows parseShadows(const std::string& name);
+const char* shadowsName(LineSpaceSettings::Shadows shadows);  // "binary" / "exact"
 
 struct LineSpaceStats {
   std::uint32_t n = 0, depth = 0;

@@ -40,6 +40,18 @@ TEST_F(Cli, HelpForEveryCommand) {
   for (const char* option : {"--ls-shadows", "--linespace-n"}) EXPECT_NE(render.out.find(option), std::string::npos) << option;
 }
 
+// docs/options.md is what `penumbra options` prints from the declarations, so the reference stays
+// true; every declared option is in it.
+TEST_F(Cli, OptionsPageIsTheDeclarationsOutput) {
+  const Result r = run("options");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.out, slurp(std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "options.md"))
+      << "docs/options.md is stale; regenerate it: build/bin/penumbra options > docs/options.md";
+  for (const penumbra::Option<penumbra::RenderSettings>& o : penumbra::renderOptions().all()) {
+    EXPECT_NE(r.out.find("`" + o.name.substr(0, o.name.find(',')) + "`"), std::string::npos) << o.name;
+  }
+}
+
 TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
   const std::string out = (dir_ / "out").string();
   const std::pair<std::string, std::string> cases[] = {
@@ -62,7 +74,13 @@ TEST_F(Cli, BadInputIsOneClearLineAndNoOutput) {
       {"render --method srt --ray-intervals maybe --scene builtin:square", "--ray-intervals"},
       {"render --method srt --thin-width -1 --scene builtin:square", "--thin-width"},
       {"render --method ls --ls-shadows maybe --scene builtin:square", "--ls-shadows"},
-      {"render --method srt --tracer ls --ls-shadows Exact --scene builtin:square", "unknown shadow mode 'Exact'"},
+      {"render --method srt --tracer ls --ls-shadows Exact --scene builtin:square",
+       "'Exact' is not one of binary, exact"},
+      {"render --method ls --linespace-n 3 --scene builtin:square", "--linespace-n '3'"},
+      {"render --method ao --tracer ntree-ls --ntree-ls-depth 3 --scene builtin:square", "--ntree-ls-depth 3"},
+      {"render --method ls --linespace-budget -5 --scene builtin:square", "--linespace-budget '-5'"},
+      {"render --method bitmask --scene builtin:courtyard --light-size 0.1 --bitmask-receivers a,b,c,d,e",
+       "names more than 4"},
       {"bench --scenes builtin:square --methods sm --shard 3/2", "--shard"},
       {"bench --merge /nonexistent/shard1,/nonexistent/shard2", "--merge"},
       {"render --method bitmask --scene builtin:courtyard", "area light"},

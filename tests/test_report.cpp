@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "apps/sweep.h"
 #include "apps/tune_command.h"
 #include "cli_fixture.h"
 #include "png_check.h"
@@ -94,6 +95,30 @@ class Report : public penumbra::test::CliTest {
     return readPng(shot);
   }
 };
+
+// bench's axes are the declared options that say they can be swept (and --tracer): each sets an
+// option `render` takes, and each such declaration is an axis (a hand-kept list once named an
+// option no run had, --bitmask-samples).
+TEST(SweepAxes, AreTheSweepableRunOptions) {
+  CLI::App app;
+  penumbra::RunConfig config;
+  penumbra::addRunOptions(app, config);
+  std::set<std::string> axes;
+  for (const penumbra::AxisDef& axis : penumbra::sweepAxes()) {
+    EXPECT_NE(app.get_option_no_throw(axis.option), nullptr) << axis.option;
+    EXPECT_FALSE(axis.axis.methods.empty()) << axis.option;
+    axes.insert(axis.option);
+  }
+  EXPECT_EQ(penumbra::sweepAxes().front().option, "--tracer");  // before the line-space axes, which read it
+  std::size_t sweepable = 0;
+  for (const auto& o : penumbra::renderOptions().all()) {
+    if (!o.sweep) continue;
+    ++sweepable;
+    EXPECT_TRUE(axes.count(o.name.substr(0, o.name.find(',')))) << o.name;
+  }
+  EXPECT_EQ(axes.size(), sweepable + 1);
+  EXPECT_GE(sweepable, 10u);  // res, delta, margin, pmaps, spp, denoise, pcf kernel, msm maps, N, d
+}
 
 TEST_F(Report, CompareWritesAPageWithItsImagesAndChartThatChromiumRenders) {
   const fs::path out = dir_ / "out";
