@@ -240,7 +240,7 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods)
   s.lightSizeFraction = c.lightSizeGiven || !view ? c.lightSize : view->lightSizeFraction;
   applyLightSize(s.light, s.lightSizeFraction, bounds);
 
-  // A denoised run is judged against the converged reference (issue 23), not one of its own few samples.
+  // A denoised run is judged against the converged reference, not one of its own few samples.
   s.settings.referenceSpp = c.referenceSpp                                ? c.referenceSpp
                             : s.settings.denoise.mode != DenoiseMode::Off ? kConvergedSpp
                                                                           : 0u;

@@ -1,4 +1,4 @@
-// The miss explainer (issue 17): for a method that classifies, every pixel whose shadow-map answer
+// The miss explainer: for a method that classifies, every pixel whose shadow-map answer
 // is wrong against the reference and that it did not trace, with the reason the classification gave
 // for leaving it out (PIP_WHY_*, pip_classify.comp) split by which way the sm answer is wrong.
 #pragma once

@@ -1,4 +1,4 @@
-// Built-in stress scenes (issue 17): content that looks like real scenes and defeats shadow-map
+// Built-in stress scenes: content that looks like real scenes and defeats shadow-map
 // classification. makeBuiltinScene ("builtin:foliage", "builtin:level", "builtin:knot") builds them;
 // they follow the conventions of core/builtin_scenes.h (Y up, unit per-vertex normals, CCW seen from
 // the normal side, one base colour per mesh, cleanScene keeps every triangle). All are deterministic:

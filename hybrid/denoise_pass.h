@@ -1,4 +1,4 @@
-// The shadow denoiser (issue 23) for few-sample soft shadows. With --denoise temporal, each noisy
+// The shadow denoiser for few-sample soft shadows. With --denoise temporal, each noisy
 // pixel's samples are first averaged over frames, reprojected through the G-buffer, the history
 // dropped on disocclusion and clipped where the current neighbourhood disagrees with it
 // (shaders/denoise_accumulate.comp); then a spatial filter inside the penumbra mask gathers about

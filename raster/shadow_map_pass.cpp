@@ -104,7 +104,7 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   const float farCube = distance + radius;
   // Depth precision: a stored depth's float step grows as w^2 / near, so a near plane at 1e-4 of the
   // far one made it about a texel at the room's walls (4 steps of it, the layer test's tolerance,
-  // hid a wall 0.86 texels over a floor point: issue 17). Out to half the clearance, it is ~100x finer.
+  // hid a wall 0.86 texels over a floor point). Out to half the clearance, it is ~100x finer.
   info.nearPlane = std::max(farCube * kCubeNearFraction, std::min(0.5f * clearance, farCube * 1e-2f));
   info.farPlane = farCube;
   const glm::mat4 proj = perspectiveVk(glm::radians(90.0f), info.nearPlane, info.farPlane);

@@ -1,4 +1,4 @@
-// Keeps a BVH over moving geometry current (issue 8): refitting rewrites the triangles from the
+// Keeps a BVH over moving geometry current: refitting rewrites the triangles from the
 // scene and recomputes every box bottom-up with the builder's own padding, keeping the topology;
 // once refitting has let the SAH cost grow past BvhBuildSettings::rebuildGrowth times the cost
 // the tree had when built, the tree is rebuilt with Embree's builder instead. Moving meshes keep
