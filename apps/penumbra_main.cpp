@@ -27,13 +27,6 @@ using namespace penumbra;
 
 namespace {
 
-// The reference a method's frame is compared with: ref for shadows, the Embree tracer's own run
-// for ao and indirect.
-std::string referenceFor(const std::string& method) {
-  const Term term = methodTerm(method);
-  return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";
-}
-
 int runCommand(const RunConfig& config, const std::vector<std::string>& requested, bool compare) {
   const RunSetup setup = prepareRun(config, requested);
   std::vector<std::string> methods;
@@ -78,24 +71,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
   std::vector<std::optional<MissReport>> missReports(frames.size());  // --explain-misses
   if (compare) {
     for (std::size_t i = references.size(); i < frames.size(); ++i) {
-      const Frame& reference = frames[referenceOf[i]];
-      // ao and indirect are continuous terms: the soft threshold, whatever the light
-      const float wrong = frames[i].stats.term ? kWrongThresholdSoft : threshold;
-      frames[i].stats.error = compareVisibility(frames[i].visibility, reference.visibility, reference.covered, wrong);
-      frames[i].stats.imageError = compareImages(frames[i].rgba, reference.rgba, reference.covered, frames[i].width,
-                                                 frames[i].height, &flipMaps[i]);
-      if (!frames[i].pip.empty()) {
-        frames[i].stats.pipMissFraction = missFraction(frames[i].shadowMapVisibility, reference.visibility,
-                                                       reference.covered, frames[i].pip, threshold);
-        if (soft) {
-          frames[i].stats.penumbraMissFraction = penumbraMissFraction(reference.visibility, reference.covered, frames[i].pip);
-        }
-        if (!frames[i].pipWhy.empty()) {
-          missReports[i] = explainMisses(frames[i].shadowMapVisibility, frames[i].pip, frames[i].pipWhy,
-                                         reference.visibility, reference.covered, threshold);
-          frames[i].stats.missCauses = missCauseCounts(*missReports[i]);
-        }
-      }
+      missReports[i] = judgeFrame(frames[i], frames[referenceOf[i]], soft, &flipMaps[i]);
     }
   }
 

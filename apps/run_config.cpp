@@ -15,6 +15,7 @@
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
+#include "core/metrics.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
 #include "hybrid/method.h"
@@ -194,19 +195,42 @@ std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std
   return out;
 }
 
-RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods) {
+std::string referenceFor(const std::string& method) {
+  const Term term = methodTerm(method);
+  return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";
+}
+
+std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool soft, std::vector<float>* flip) {
+  const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
+  // ao and indirect are continuous terms: the soft threshold, whatever the light
+  const float wrong = frame.stats.term ? kWrongThresholdSoft : threshold;
+  frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, wrong);
+  frame.stats.imageError =
+      compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, flip);
+  if (frame.pip.empty()) return std::nullopt;
+  frame.stats.pipMissFraction =
+      missFraction(frame.shadowMapVisibility, reference.visibility, reference.covered, frame.pip, threshold);
+  if (soft) frame.stats.penumbraMissFraction = penumbraMissFraction(reference.visibility, reference.covered, frame.pip);
+  if (frame.pipWhy.empty()) return std::nullopt;
+  MissReport report = explainMisses(frame.shadowMapVisibility, frame.pip, frame.pipWhy, reference.visibility,
+                                    reference.covered, threshold);
+  frame.stats.missCauses = missCauseCounts(report);
+  return report;
+}
+
+RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods, const Scene* loaded) {
   for (const std::string& m : expandMethods(c, methods)) makeMethod(m);  // unknown names fail before any work
   if (!std::isfinite(c.lightSize)) throw InputError("--light-size must be a finite number");
 
   RunSetup s;
   s.settings = c.settings;  // what the declared options set (the others follow)
   // A built-in level's geometry alone may be over the limit: refused before it is built.
-  if (const std::optional<std::uint64_t> triangles = builtinTriangleCount(c.scene)) {
+  if (const std::optional<std::uint64_t> triangles = loaded ? std::nullopt : builtinTriangleCount(c.scene)) {
     MemoryEstimate geometry;
     geometry.geometry = estimateBytes(s.settings, *triangles, false).geometry;
     requireFits(geometry, s.settings, *triangles);
   }
-  s.scene = loadScene(c.scene);
+  s.scene = loaded ? *loaded : loadScene(c.scene);
   for (const std::string& w : s.scene.warnings) std::cerr << "penumbra: " << c.scene << ": " << w << "\n";
   const Bounds bounds = s.scene.bounds();
 

@@ -2,6 +2,7 @@
 // light and settings, all resolved (and refused with a clear message) before the GPU starts.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/miss_explainer.h"
 #include "core/scene.h"
 #include "gpu/context.h"
 #include "hybrid/renderer.h"
@@ -73,9 +75,17 @@ class FrameSequence {
 };
 
 void addRunOptions(CLI::App& app, RunConfig& config);
-// Loads the scene, resolves camera/light (printing defaults so they can be reused), checks every
-// number and the memory the run needs; writes --save-view. Throws InputError.
-RunSetup prepareRun(const RunConfig& config, const std::vector<std::string>& methods);
+// Loads the scene (or copies `loaded`, config.scene's), resolves camera/light (printing defaults so
+// they can be reused), checks every number and the memory the run needs; writes --save-view.
+// Throws InputError.
+RunSetup prepareRun(const RunConfig& config, const std::vector<std::string>& methods, const Scene* loaded = nullptr);
+// The reference a method's frame is compared with: ref for shadows, the Embree tracer's own run
+// for ao and indirect.
+std::string referenceFor(const std::string& method);
+// Judges `frame` against its reference as compare does, into its stats: visibility and image
+// errors (the FLIP map into `flip`), and for methods that classify the PIP misses, the penumbra
+// misses (`soft`: an area light) and, with --explain-misses, why (returned).
+std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool soft, std::vector<float>* flip);
 nlohmann::json describeRun(const RunConfig& config, const RunSetup& setup, const gpu::Context& context);
 void printSummary(const std::vector<Frame>& frames, std::ostream& out);
 std::vector<std::string> splitList(const std::string& list);
