@@ -13,6 +13,7 @@ packages=(
   libassimp-dev  # the other model formats (.ply, .stl, .dae, .fbx, ...)
   nlohmann-json3-dev libcli11-dev libgtest-dev
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
+  parallel slurm-wlm munge  # sharded sweeps on GNU parallel and Slurm; their test starts a one-node cluster
   clang-format  # git clang-format: the format check of changed lines (scripts/check_format.sh)
   python3-matplotlib chromium  # report.html charts (bench/report/report.py); the report test renders the page
   libglfw3-dev libimgui-dev libgl-dev xvfb xauth  # penumbra-demo (GLFW + OpenGL + Dear ImGui); its tests run it under Xvfb
