@@ -3,7 +3,6 @@
 // judgeFrame, so that a frame here is the CLI's bit for bit.
 #include "penumbra/penumbra.h"
 
-#include <algorithm>
 #include <map>
 
 #include "apps/run_config.h"
@@ -72,11 +71,7 @@ struct Renderer::Impl {
   penumbra::Frame measured(const std::string& method) {
     std::vector<penumbra::Frame> runs;
     for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(render(method));
-    std::sort(runs.begin(), runs.end(),
-              [](const penumbra::Frame& a, const penumbra::Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
-    penumbra::Frame median = std::move(runs[runs.size() / 2]);
-    median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
-    return median;
+    return medianFrame(std::move(runs));
   }
 };
 

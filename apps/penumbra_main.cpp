@@ -46,10 +46,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
     for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.light);
     std::vector<Frame> runs;
     for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(sequence.next(renderer, setup.camera, setup.light));
-    std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
-    Frame median = std::move(runs[runs.size() / 2]);
-    median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
-    return median;
+    return medianFrame(std::move(runs));
   };
   std::vector<Frame> frames;
   for (const std::string& reference : references) frames.push_back(measured(reference));

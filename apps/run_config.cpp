@@ -195,6 +195,13 @@ std::vector<std::string> expandMethods(const RunConfig& c, const std::vector<std
   return out;
 }
 
+Frame medianFrame(std::vector<Frame> runs) {
+  std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
+  Frame median = std::move(runs[runs.size() / 2]);
+  median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
+  return median;
+}
+
 std::string referenceFor(const std::string& method) {
   const Term term = methodTerm(method);
   return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";

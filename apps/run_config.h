@@ -74,6 +74,9 @@ class FrameSequence {
   std::uint32_t frame_ = 0;
 };
 
+// The median of repeated frames by total time, with their spread (min, max, runs) in its stats.
+Frame medianFrame(std::vector<Frame> runs);
+
 void addRunOptions(CLI::App& app, RunConfig& config);
 // Loads the scene (or copies `loaded`, config.scene's), resolves camera/light (printing defaults so
 // they can be reused), checks every number and the memory the run needs; writes --save-view.

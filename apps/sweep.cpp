@@ -61,14 +61,6 @@ std::string slug(const std::string& text) {
   return out;
 }
 
-// The median frame of the measured ones, with the spread in its stats.
-Frame medianFrame(std::vector<Frame>& runs) {
-  std::sort(runs.begin(), runs.end(), [](const Frame& a, const Frame& b) { return a.stats.totalMs < b.stats.totalMs; });
-  Frame median = std::move(runs[runs.size() / 2]);
-  median.stats.totalSpreadMs = {runs.front().stats.totalMs, runs.back().stats.totalMs, std::uint32_t(runs.size())};
-  return median;
-}
-
 // The simulated trace bandwidth, wherever the stats JSON carries it (null when no simulator ran).
 nlohmann::json findKey(const nlohmann::json& j, const std::string& key) {
   if (!j.is_object()) return nullptr;
@@ -353,7 +345,7 @@ SweepResult runSweep(const Sweep& sweep) {
     const auto orNull = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
     nlohmann::json refRow;
     for (std::size_t j = 0; j < references; ++j) {
-      referenceFrames.push_back(medianFrame(jobs[j].runs));
+      referenceFrames.push_back(medianFrame(std::move(jobs[j].runs)));
       const Frame& reference = referenceFrames.back();
       if (j == 0) referenceSpp = reference.stats.samplesPerPixel;
       nlohmann::json r = row(reference, jobs[j].run, nullptr, reference.stats.totalMs);
@@ -380,7 +372,7 @@ SweepResult runSweep(const Sweep& sweep) {
     for (std::size_t j = references; j < jobs.size(); ++j) {
       const SweepConfig& config = *jobs[j].config;
       const nlohmann::json& run = jobs[j].run;
-      Frame frame = medianFrame(jobs[j].runs);
+      Frame frame = medianFrame(std::move(jobs[j].runs));
       jobs[j].runs.clear();
       const Frame& reference = referenceOf(frame);
       // ao and indirect are continuous terms: the soft threshold, whatever the light

@@ -43,9 +43,11 @@ TEST_F(Cli, HelpForEveryCommand) {
 // docs/options.md is what `penumbra options` prints from the declarations, so the reference stays
 // true; every declared option is in it.
 TEST_F(Cli, OptionsPageIsTheDeclarationsOutput) {
+  const std::filesystem::path page = std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "options.md";
+  if (!std::filesystem::exists(PENUMBRA_SOURCE_DIR)) GTEST_SKIP() << "no source tree here (the bundle's clean root)";
   const Result r = run("options");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(r.out, slurp(std::filesystem::path(PENUMBRA_SOURCE_DIR) / "docs" / "options.md"))
+  EXPECT_EQ(r.out, slurp(page))
       << "docs/options.md is stale; regenerate it: build/bin/penumbra options > docs/options.md";
   for (const penumbra::Option<penumbra::RenderSettings>& o : penumbra::renderOptions().all()) {
     EXPECT_NE(r.out.find("`" + o.name.substr(0, o.name.find(',')) + "`"), std::string::npos) << o.name;
