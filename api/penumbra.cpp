@@ -23,8 +23,15 @@ auto checked(F&& f) {
   }
 }
 
-Frame toFrame(const penumbra::Frame& f) {
-  return {f.width, f.height, f.visibility, f.rgba, f.covered, f.pip, f.stats.toJson().dump()};
+// The rendered buffers move into the API's frame: no copy after the read-back.
+Frame toFrame(penumbra::Frame&& f) {
+  return {f.width,
+          f.height,
+          std::move(f.visibility),
+          std::move(f.rgba),
+          std::move(f.covered),
+          std::move(f.pip),
+          f.stats.toJson().dump()};
 }
 
 }  // namespace
@@ -126,7 +133,6 @@ void Renderer::setLight(const std::string& light) {
     Light parsed = parseLight(light, impl_->setup.scene.origin);
     applyLightSize(parsed, impl_->setup.lightSizeFraction, impl_->setup.scene.bounds());
     impl_->setup.light = parsed;
-    return 0;
   });
 }
 
