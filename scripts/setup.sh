@@ -54,18 +54,21 @@ installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install o
 missing=()
 for p in "${packages[@]}"; do installed "$p" || missing+=("$p"); done
 mesa_version=$(dpkg-query -W -f='${Version}' mesa-vulkan-drivers 2>/dev/null || true)
-mesa=""
+backported=()  # packages taken from bookworm-backports
 if [ "${PENUMBRA_STOCK_MESA:-0}" = 1 ]; then
-  installed mesa-vulkan-drivers || mesa="mesa-vulkan-drivers"
+  installed mesa-vulkan-drivers || missing+=(mesa-vulkan-drivers)
 elif [ -z "$mesa_version" ] || dpkg --compare-versions "$mesa_version" lt 25; then
-  mesa="mesa-vulkan-drivers/bookworm-backports"
+  backported+=(mesa-vulkan-drivers/bookworm-backports)
 fi
-if [ ${#missing[@]} -gt 0 ] || [ -n "$mesa" ]; then
-  [ "$mesa" = "mesa-vulkan-drivers/bookworm-backports" ] && { add_backports || true; }
-  echo "setup: installing ${missing[*]} $mesa"
+# `pip install .` (pyproject.toml): scikit-build-core, which needs backports' python3-packaging 25
+installed python3-scikit-build-core ||
+  backported+=(python3-scikit-build-core/bookworm-backports python3-packaging/bookworm-backports)
+if [ ${#missing[@]} -gt 0 ] || [ ${#backported[@]} -gt 0 ]; then
+  [ ${#backported[@]} -gt 0 ] && { add_backports || true; }
+  echo "setup: installing ${missing[*]} ${backported[*]}"
   $sudo_cmd apt-get update -qq
   # Mesa from backports brings the libdrm and Mesa GL drivers of its own suite (apt resolves them).
-  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" $mesa
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" "${backported[@]}"
 else
   echo "setup: all dependencies present (mesa-vulkan-drivers $mesa_version)"
 fi
