@@ -9,8 +9,9 @@
 //  - a neighbourhood that leaves its cube face (seams are classified conservatively);
 //  - beyond the paper, what the depth test lets through on real content: another surface over the
 //    receiver within the bias - a surface rising beside it, a step's foot, a strip lying on it
-//    (contact; layerOver) - and light through a gap between blockers narrower than a texel, which
-//    the map closes (gapBetweenBlockers).
+//    (contact; layerOver) - light through a gap between blockers narrower than a texel, which
+//    the map closes (gapBetweenBlockers), and an umbra whose blocker lies within the receiver's
+//    own depth interval (acne the bias left, as under a spot's wide perspective texels).
 // For hard shadows it can also bound the ray: blockers in the texel column are no closer to the
 // light than the neighbourhood's minimum depth (less its spread and two texels), so the ray stops there.
 // Area lights (3.2): the penumbra mask is the union of the edge texels' splats, each the light's
@@ -352,6 +353,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
     if (!inMask) inMask = blockerWithinReach(p, offsetP, nf, texel, face, vis > 0.0, interior, t, halfExtent);
     return write(index, vis, inMask ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
+  if (vis == 0.0 && s >= lo && flags == 0u) flags |= PIP_ACNE;
   if (s >= lo && flags == 0u && interior &&
       layerOver(p, nf, texel, viewProj, face, t)) flags |= PIP_CONTACT;
   if (vis == 0.0 && flags == 0u && gapBetweenBlockers(p, viewProj, face)) flags |= PIP_GAP;
