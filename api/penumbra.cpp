@@ -69,9 +69,9 @@ struct Renderer::Impl {
     auto [at, fresh] = sequences.try_emplace(expanded[0], config, setup.settings, expanded[0]);
     FrameSequence& sequence = at->second;
     if (fresh) {
-      for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.light);
+      for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.lights);
     }
-    return sequence.next(renderer, setup.camera, setup.light);
+    return sequence.next(renderer, setup.camera, setup.lights);
   }
 
   // As compare measures: --repeat frames, the median one with the spread.
@@ -103,7 +103,7 @@ Frame Renderer::render(const std::string& method) {
 
 std::string Renderer::compare(const std::vector<std::string>& methods) {
   return checked([&] {
-    const bool soft = impl_->setup.light.size > 0.0f;
+    const bool soft = impl_->setup.lights.front().size > 0.0f;
     std::map<std::string, penumbra::Frame> references;
     std::vector<penumbra::Frame> frames;
     for (const std::string& m : expandMethods(impl_->config, methods)) {
@@ -132,12 +132,12 @@ void Renderer::setLight(const std::string& light) {
   checked([&] {
     Light parsed = parseLight(light, impl_->setup.scene.origin);
     applyLightSize(parsed, impl_->setup.lightSizeFraction, impl_->setup.scene.bounds());
-    impl_->setup.light = parsed;
+    impl_->setup.lights = {parsed};
   });
 }
 
 std::string Renderer::camera() const { return formatCamera(impl_->setup.camera, impl_->setup.scene.origin); }
-std::string Renderer::light() const { return formatLight(impl_->setup.light, impl_->setup.scene.origin); }
+std::string Renderer::light() const { return formatLight(impl_->setup.lights.front(), impl_->setup.scene.origin); }
 
 std::string Renderer::settings() const { return describeRun(impl_->config, impl_->setup, impl_->context).dump(); }
 

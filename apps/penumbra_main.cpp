@@ -43,9 +43,10 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
 
   auto measured = [&](const std::string& method) {
     FrameSequence sequence(config, setup.settings, method);
-    for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.light);
+    for (std::uint32_t i = 0; i < sequence.warmup(); ++i) sequence.next(renderer, setup.camera, setup.lights);
     std::vector<Frame> runs;
-    for (std::uint32_t i = 0; i < config.repeat; ++i) runs.push_back(sequence.next(renderer, setup.camera, setup.light));
+    for (std::uint32_t i = 0; i < config.repeat; ++i)
+      runs.push_back(sequence.next(renderer, setup.camera, setup.lights));
     return medianFrame(std::move(runs));
   };
   std::vector<Frame> frames;
@@ -61,7 +62,7 @@ int runCommand(const RunConfig& config, const std::vector<std::string>& requeste
   }
 
   nlohmann::json context_json = describeRun(config, setup, context);
-  const bool soft = setup.light.size > 0.0f;
+  const bool soft = setup.lights.front().size > 0.0f;
   const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
   const float heatmapScale = soft ? 0.25f : 1.0f;
   std::vector<std::vector<float>> flipMaps(frames.size());  // per method: FLIP of its image vs the reference's

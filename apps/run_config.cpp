@@ -107,7 +107,12 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
   app.add_option("--scene", c.scene, "Scene: builtin:NAME[:LEVEL] (courtyard, wires, square, checker, room, foliage, level, knot), a .gltf/.glb or .obj file")
       ->capture_default_str();
   app.add_option("--camera", c.camera, "Camera 'ex,ey,ez:tx,ty,tz[:fovy]' (default: the scene's, else a three-quarter view)");
-  app.add_option("--light", c.light, "Light 'dir:dx,dy,dz' | 'point:x,y,z' | 'spot:x,y,z:tx,ty,tz[:angle]' | 'rect:x,y,z:tx,ty,tz' | 'disk:...'");
+  app.add_option("--light", c.lights,
+                 "Light 'dir:dx,dy,dz' | 'point:x,y,z' | 'spot:x,y,z:tx,ty,tz[:angle]' | 'rect:x,y,z:tx,ty,tz' | "
+                 "'disk:...'; repeat it for several lights (default: every light of the scene)")
+      ->take_last()
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_option("--light-size", c.lightSize, "Area light extent as a fraction of the scene radius (0 = point light)")
       ->each([&c](const std::string&) { c.lightSizeGiven = true; });
   app.add_option("--time", c.time, "Animated scenes (e.g. builtin:courtyard-moving): pose at this many seconds")
@@ -149,9 +154,9 @@ FrameSequence::FrameSequence(const RunConfig& config, const RenderSettings& sett
       sequence_(settings.denoise.mode == DenoiseMode::Temporal && method_ != "ref"),
       warmup_(sequence_ ? std::max(config.warmup, config.denoiseFrames - 1) : config.warmup) {}
 
-Frame FrameSequence::next(Renderer& renderer, const Camera& camera, const Light& light) {
+Frame FrameSequence::next(Renderer& renderer, const Camera& camera, std::span<const Light> lights) {
   renderer.setFrame(sequence_ ? frame_++ : 0u);
-  return renderer.render(method_, camera, light);
+  return renderer.render(method_, camera, lights);
 }
 
 std::vector<std::string> splitList(const std::string& list) {
@@ -208,6 +213,29 @@ std::string referenceFor(const std::string& method) {
 }
 
 std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool soft, std::vector<float>* flip) {
+  if (!frame.lights.empty()) {  // each light against the reference's same light; the frame over them all
+    if (reference.lights.size() != frame.lights.size()) throw std::logic_error("judged against another set of lights");
+    frame.stats.imageError =
+        compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, flip);
+    std::vector<float> all, allReference;
+    std::vector<std::uint8_t> covered;
+    for (std::size_t i = 0; i < frame.lights.size(); ++i) {
+      Frame& light = frame.lights[i];
+      const Frame& ref = reference.lights[i];
+      const float threshold = ref.stats.samplesPerPixel > 1 ? kWrongThresholdSoft : kWrongThresholdHard;
+      light.stats.error = compareVisibility(light.visibility, ref.visibility, reference.covered, threshold);
+      if (!light.pip.empty()) {
+        light.stats.pipMissFraction =
+            missFraction(light.shadowMapVisibility, ref.visibility, reference.covered, light.pip, threshold);
+      }
+      frame.stats.lights[i] = light.stats;
+      all.insert(all.end(), light.visibility.begin(), light.visibility.end());
+      allReference.insert(allReference.end(), ref.visibility.begin(), ref.visibility.end());
+      covered.insert(covered.end(), reference.covered.begin(), reference.covered.end());
+    }
+    frame.stats.error = compareVisibility(all, allReference, covered, soft ? kWrongThresholdSoft : kWrongThresholdHard);
+    return std::nullopt;
+  }
   const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
   // ao and indirect are continuous terms: the soft threshold, whatever the light
   const float wrong = frame.stats.term ? kWrongThresholdSoft : threshold;
@@ -255,12 +283,12 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
     s.camera = defaultCamera(bounds);
     std::cout << "camera (default): --camera " << formatCamera(s.camera, origin) << "\n";
   }
-  if (!c.light.empty()) s.light = parseLight(c.light, origin);
-  else if (view) s.light = view->light;
-  else if (!s.scene.lights.empty()) s.light = s.scene.lights.front();
-  else {
-    s.light = defaultLight(bounds);
-    std::cout << "light (default): --light " << formatLight(s.light, origin) << "\n";
+  for (const std::string& spec : c.lights) s.lights.push_back(parseLight(spec, origin));
+  if (s.lights.empty() && view) s.lights = {view->light};
+  if (s.lights.empty()) s.lights = s.scene.lights;
+  if (s.lights.empty()) {
+    s.lights = {defaultLight(bounds)};
+    std::cout << "light (default): --light " << formatLight(s.lights.front(), origin) << "\n";
   }
   s.time = c.timeGiven || !view ? c.time : view->time;
   if (!std::isfinite(s.time) || s.time < 0.0) throw InputError("--time must be a number of seconds >= 0");
@@ -269,7 +297,11 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   }
   poseScene(s.scene, s.time);
   s.lightSizeFraction = c.lightSizeGiven || !view ? c.lightSize : view->lightSizeFraction;
-  applyLightSize(s.light, s.lightSizeFraction, bounds);
+  for (Light& light : s.lights) applyLightSize(light, s.lightSizeFraction, bounds);
+  if (s.lights.size() > 1 && s.settings.denoise.mode != DenoiseMode::Off) {
+    throw InputError("--denoise filters the shadow of one light; this run has " + std::to_string(s.lights.size()) +
+                     " lights (give one --light)");
+  }
 
   // A denoised run is judged against the converged reference, not one of its own few samples.
   s.settings.referenceSpp = c.referenceSpp                                ? c.referenceSpp
@@ -298,8 +330,10 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   need.textures = 2 * cutoutDataBytes(s.scene) + raster::colorTextureBytes(s.scene);
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
-    writeViewFile(c.saveView,
-                  {s.camera, s.light, s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time}, origin);
+    writeViewFile(
+        c.saveView,
+        {s.camera, s.lights.front(), s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time},
+        origin);
   }
   return s;
 }
@@ -310,7 +344,13 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
                      {"load_ms", s.scene.loadMs},
                      {"resolution", {s.settings.width, s.settings.height}},
                      {"camera", formatCamera(s.camera, s.scene.origin)},
-                     {"light", formatLight(s.light, s.scene.origin)},
+                     {"light", formatLight(s.lights.front(), s.scene.origin)},
+                     {"lights",
+                      [&] {
+                        nlohmann::json lights = nlohmann::json::array();
+                        for (const Light& l : s.lights) lights.push_back(formatLight(l, s.scene.origin));
+                        return lights;
+                      }()},
                      {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},
                      {"light_size", s.lightSizeFraction},
                      {"time", s.time},

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,8 @@ constexpr std::uint32_t kConvergedSpp = 256;
 
 struct RunConfig {
   std::string scene = "builtin:courtyard";
-  std::string camera, light, viewFile, saveView;
+  std::string camera, viewFile, saveView;
+  std::vector<std::string> lights;  // --light, repeatable
   float lightSize = 0.0f;
   bool lightSizeGiven = false;
   double time = 0.0;  // animated scenes: pose at this many seconds
@@ -51,7 +53,9 @@ struct RunConfig {
 struct RunSetup {
   Scene scene;
   Camera camera;
-  Light light;
+  // Every light of the frame: --light's (repeatable), else the view file's, else the scene's, else a
+  // default one. Tools of one light (the demo, view files) take the first.
+  std::vector<Light> lights;
   float lightSizeFraction = 0.0f;
   double time = 0.0;  // the scene is posed at this time
   RenderSettings settings;
@@ -65,7 +69,7 @@ class FrameSequence {
  public:
   FrameSequence(const RunConfig& config, const RenderSettings& settings, std::string method);
   std::uint32_t warmup() const { return warmup_; }
-  Frame next(Renderer& renderer, const Camera& camera, const Light& light);
+  Frame next(Renderer& renderer, const Camera& camera, std::span<const Light> lights);
 
  private:
   std::string method_;

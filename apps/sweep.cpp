@@ -283,17 +283,17 @@ SweepResult runSweep(const Sweep& sweep) {
       setup.scene = Scene{};
       jobs.push_back({&config, config.method, runConfig, std::move(setup), std::move(run), nullptr, {}, {}});
     }
-    auto render = [&](Job& job, const Light& light) {
-      return job.frames->next(*job.renderer, (job.config ? job.setup : refSetup).camera, light);
+    auto render = [&](Job& job, std::span<const Light> lights) {
+      return job.frames->next(*job.renderer, (job.config ? job.setup : refSetup).camera, lights);
     };
     auto start = [&](Job& job) {
       progress.start(g.scene + " light " + shortNumber(g.lightSize) + ": " + (job.config ? job.config->label : job.method));
       const RunSetup& s = job.config ? job.setup : refSetup;
       job.renderer = std::make_unique<Renderer>(context, refSetup.scene, s.settings);
       job.frames.emplace(job.runConfig, s.settings, job.method);
-      for (std::uint32_t i = 0; i < job.frames->warmup(); ++i) render(job, s.light);
+      for (std::uint32_t i = 0; i < job.frames->warmup(); ++i) render(job, s.lights);
     };
-    auto measure = [&](Job& job) { job.runs.push_back(render(job, (job.config ? job.setup : refSetup).light)); };
+    auto measure = [&](Job& job) { job.runs.push_back(render(job, (job.config ? job.setup : refSetup).lights)); };
     // The mean change between consecutive frames under the slowly circling light (untimed frames),
     // and, for shadow terms, the mean rmse over the frames after the light began to move against
     // the reference's same frame (the reference job runs first): a history that lags shows there.
@@ -307,8 +307,9 @@ SweepResult runSweep(const Sweep& sweep) {
       std::optional<Frame> previous;
       double sum = 0.0, rmse = 0.0;
       for (std::uint32_t i = 0; i < sweep.temporalFrames; ++i) {
-        const Light light = orbitLight(s.light, bounds, sweep.temporalStepDeg * float(i));
-        Frame frame = render(job, light);
+        std::vector<Light> lights;
+        for (const Light& l : s.lights) lights.push_back(orbitLight(l, bounds, sweep.temporalStepDeg * float(i)));
+        Frame frame = render(job, lights);
         if (previous) sum += temporalChange(previous->visibility, frame.visibility, previous->covered, frame.covered);
         if (judged && i > 0) {
           const Frame& ref = movingReference[i];
@@ -340,7 +341,7 @@ SweepResult runSweep(const Sweep& sweep) {
     }
 
     std::vector<Frame> referenceFrames;  // jobs [0, references): ref, then ao-embree / indirect-embree
-    const bool soft = refSetup.light.size > 0.0f;
+    const bool soft = refSetup.lights.front().size > 0.0f;
     const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
     const auto orNull = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
     nlohmann::json refRow;

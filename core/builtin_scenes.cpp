@@ -16,6 +16,7 @@ namespace {
 
 constexpr int kDefaultCourtyardLevel = 8;
 constexpr int kMaxCourtyardLevel = 512;
+constexpr int kDefaultStreetLamps = 16, kMaxStreetLamps = 256;
 
 Mesh& addMesh(Scene& scene, std::string name, const glm::vec3& color) {
   Mesh& m = scene.meshes.emplace_back();
@@ -233,17 +234,60 @@ Scene room() {
   return scene;
 }
 
+// A street of `lamps` lamps (builtin_scenes.h).
+Scene street(int lamps) {
+  Scene scene;
+  scene.name = "builtin:street";
+  const int perSide = (lamps + 1) / 2;
+  constexpr float kSpacing = 6.0f, kRange = 7.0f, kHeight = 3.6f;
+  const float length = kSpacing * float(perSide) + 6.0f;  // from x = -3, the first lamp at x = 0
+  mesh::addGrid(addMesh(scene, "road", {0.35f, 0.35f, 0.37f}), {-3.0f, 0.0f, 7.0f}, {length, 0.0f, 0.0f},
+                {0.0f, 0.0f, -14.0f}, 4 * perSide, 8, {0.0f, 1.0f, 0.0f});
+  addMesh(scene, "lamp_posts", {0.20f, 0.22f, 0.25f});
+  addMesh(scene, "railings", {0.55f, 0.50f, 0.45f});
+  addMesh(scene, "benches", {0.55f, 0.35f, 0.20f});
+  Mesh& poles = scene.meshes[1];  // taken once all are added: adding moves them
+  Mesh& fence = scene.meshes[2];
+  Mesh& benches = scene.meshes[3];
+  for (int i = 0; i < lamps; ++i) {
+    const float side = i % 2 == 0 ? 1.0f : -1.0f;  // alternate sides, so that every count fills both
+    const float x = kSpacing * (float(i / 2) + (side > 0.0f ? 0.0f : 0.5f));
+    const float z = 4.5f * side;
+    mesh::addCylinder(poles, {x, 0.0f, z}, {x, kHeight + 0.3f, z}, 0.06f, 8);  // a thin post
+    mesh::addBox(poles, {x, kHeight + 0.3f, z - 0.45f * side}, {0.04f, 0.0f, 0.0f}, {0.0f, 0.04f, 0.0f},
+                 {0.0f, 0.0f, 0.45f});  // its arm over the road
+    mesh::addBox(benches, {x + 1.6f, 0.45f, z + 0.4f * side}, {0.8f, 0.0f, 0.0f}, {0.0f, 0.05f, 0.0f},
+                 {0.0f, 0.0f, 0.25f});  // a bench seat
+    for (int b = 0; b < 12; ++b) {      // railing bars 0.03 wide behind the pavement
+      const float bx = x - 2.75f + 0.5f * float(b);
+      mesh::addBox(fence, {bx, 0.6f, 6.2f * side}, {0.015f, 0.0f, 0.0f}, {0.0f, 0.6f, 0.0f}, {0.0f, 0.0f, 0.015f});
+    }
+    Light lamp;
+    lamp.type = LightType::Point;
+    lamp.position = {x, kHeight, z - 0.8f * side};
+    lamp.inverseSquare = true;
+    lamp.intensity = kHeight * kHeight;  // irradiance 1 on the road below it
+    lamp.range = kRange;
+    lamp.color = i % 3 == 0 ? glm::vec3(1.0f, 0.85f, 0.65f) : glm::vec3(1.0f, 0.95f, 0.85f);
+    scene.lights.push_back(lamp);
+  }
+  scene.camera = Camera{.eye = {-4.0f, 6.0f, 0.0f}, .target = {12.0f, 0.0f, 0.0f}, .fovYDeg = 60.0f};  // whatever LAMPS
+  return scene;
+}
+
 std::string usage() {
   std::string names;
   for (const std::string& name : builtinSceneNames()) names += (names.empty() ? "" : ", ") + name;
-  return "use builtin:NAME with NAME one of " + names + ", or builtin:courtyard[-moving]:LEVEL with LEVEL an integer in 1.." +
-         std::to_string(kMaxCourtyardLevel) + " (default " + std::to_string(kDefaultCourtyardLevel) + ")";
+  return "use builtin:NAME with NAME one of " + names +
+         ", builtin:courtyard[-moving]:LEVEL with LEVEL an integer in 1.." + std::to_string(kMaxCourtyardLevel) +
+         " (default " + std::to_string(kDefaultCourtyardLevel) + "), or builtin:street:LAMPS with LAMPS in 1.." +
+         std::to_string(kMaxStreetLamps) + " (default " + std::to_string(kDefaultStreetLamps) + ")";
 }
 
 }  // namespace
 
 std::vector<std::string> builtinSceneNames() {
-  return {"courtyard", "courtyard-moving", "wires", "square", "checker", "room", "foliage", "level", "knot"};
+  return {"courtyard", "courtyard-moving", "street", "wires", "square", "checker", "room", "foliage", "level", "knot"};
 }
 
 namespace {
@@ -253,14 +297,15 @@ std::optional<std::pair<std::string, int>> courtyardSpec(const std::string& name
   if (spec.rfind("builtin:", 0) == 0) spec.erase(0, 8);
   const std::size_t colon = spec.find(':');
   const std::string name = spec.substr(0, colon);
-  if (name != "courtyard" && name != "courtyard-moving") return std::nullopt;
-  int level = kDefaultCourtyardLevel;
+  if (name != "courtyard" && name != "courtyard-moving" && name != "street") return std::nullopt;
+  int level = name == "street" ? kDefaultStreetLamps : kDefaultCourtyardLevel;
+  const int maxLevel = name == "street" ? kMaxStreetLamps : kMaxCourtyardLevel;
   if (colon != std::string::npos) {
     const std::string levelText = spec.substr(colon + 1);
     const char* begin = levelText.data();
     const char* end = begin + levelText.size();
     const auto [ptr, ec] = std::from_chars(begin, end, level);
-    if (levelText.empty() || ec != std::errc() || ptr != end || level < 1 || level > kMaxCourtyardLevel) {
+    if (levelText.empty() || ec != std::errc() || ptr != end || level < 1 || level > maxLevel) {
       throw InputError("built-in scene 'builtin:" + spec + "' has the bad level '" + levelText + "'; " + usage());
     }
   }
@@ -270,7 +315,7 @@ std::optional<std::pair<std::string, int>> courtyardSpec(const std::string& name
 
 std::optional<std::uint64_t> builtinTriangleCount(const std::string& nameAndLevel) {
   const auto courtyardLevel = courtyardSpec(nameAndLevel);
-  if (!courtyardLevel) return std::nullopt;
+  if (!courtyardLevel || courtyardLevel->first == "street") return std::nullopt;
   const std::uint64_t l = std::uint64_t(courtyardLevel->second), s = std::min<std::uint64_t>(l, 128);
   const std::uint64_t count = 272 * l * l + 144 * s * s + 160 * l - 24 * s + 408;  // see builtin_scenes.h
   return courtyardLevel->first == "courtyard" ? count : count + 36;  // the drone
@@ -278,6 +323,7 @@ std::optional<std::uint64_t> builtinTriangleCount(const std::string& nameAndLeve
 
 Scene makeBuiltinScene(const std::string& nameAndLevel) {
   if (const auto courtyardLevel = courtyardSpec(nameAndLevel)) {
+    if (courtyardLevel->first == "street") return street(courtyardLevel->second);
     return courtyardLevel->first == "courtyard" ? courtyard(courtyardLevel->second) : courtyardMoving(courtyardLevel->second);
   }
   std::string spec = nameAndLevel;

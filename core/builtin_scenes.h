@@ -13,7 +13,8 @@ namespace penumbra {
 // All scenes: Y up, per-vertex unit normals (flat on boxes and planes), triangles counter-clockwise
 // seen from the side the normals face, one base colour per object, one light, a camera, and
 // scene.name "builtin:NAME". cleanScene drops none of their triangles. Only the courtyards take a
-// LEVEL; any other level, or an unknown name, is an InputError listing the names and the syntax.
+// LEVEL (and the street its lamp count); any other level, or an unknown name, is an InputError
+// listing the names and the syntax.
 //
 // courtyard[:LEVEL] (LEVEL 1..512, default 8): 24 x 24 ground grid at y = 0 (8*LEVEL cells a side),
 //            three boxes, five columns (r 0.35, h 4, 8*LEVEL segments) at z = -6, a UV sphere
@@ -47,6 +48,13 @@ namespace penumbra {
 //            crate, a floor-to-ceiling pillar and a ball hanging on a cord above the light.
 //            Light: Point at (1.2, 2, -1); shadows land on the floor, ceiling and walls.
 //            Camera: eye (4.4, 3.2, 4.4) in a corner, target (-2, 1.2, -2), fovy 60.
+// street[:LAMPS] (LAMPS 1..256, default 16): many lights. A road grid at y = 0, 14 wide, from
+//            x = -3 as far as the lamps need; LAMPS lamp posts (r 0.06 cylinders 3.9 high with an
+//            arm) alternating between the pavements at z = +-4.5, from x = 0 every 3 along x, each
+//            with a bench seat and 12 railing bars 0.03 wide at z = +-6.2. Lights: one Point per lamp
+//            3.6 above the road, inverse-square with intensity 3.6^2 (irradiance 1 below it) and
+//            range 7, so that neighbours' ranges barely overlap. Camera: the same for every LAMPS,
+//            eye (-4, 6, 0) looking along the street at (12, 0, 0), fovy 60.
 // foliage, level, knot: stress scenes (a tree of small leaves, a brush-built level with sub-texel
 //            cracks, a self-shadowing knot), documented in core/stress_scenes.h.
 Scene makeBuiltinScene(const std::string& nameAndLevel);

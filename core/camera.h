@@ -24,6 +24,14 @@ struct ViewMatrices {
 // Perspective view of `camera` with near/far fitted to `bounds` (never clipping the scene).
 ViewMatrices cameraMatrices(const Camera& camera, const Bounds& bounds, int width, int height);
 
+// Whether any of the sphere (centre c, radius r) lies inside the view's frustum (conservative: a
+// sphere near a frustum corner may pass).
+bool sphereInView(const ViewMatrices& m, const glm::vec3& c, float r);
+
+// The pixels [xy, zw) of a width x height image the sphere may cover: the bounds of its box's
+// corners projected, one pixel wider; the whole image when a corner lies behind the camera.
+glm::uvec4 screenRect(const ViewMatrices& m, const glm::vec3& c, float r, std::uint32_t width, std::uint32_t height);
+
 // World-space ray through the centre of pixel (x, y).
 struct Ray {
   glm::vec3 origin;

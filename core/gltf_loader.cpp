@@ -233,18 +233,44 @@ struct Converter {
     light.color = rgb(src.color, glm::vec3(1.0f));
     light.position = glm::vec3(world[3]);
     light.direction = worldDirection(glm::dmat3(world), glm::vec3(0.0f, 0.0f, -1.0f));
+    light.intensity = float(src.intensity);
+    light.range = float(src.range);
+    if (!std::isfinite(light.intensity) || light.intensity < 0.0f || !std::isfinite(light.range) ||
+        light.range < 0.0f) {
+      fail(path, "light '" + src.name + "' has a negative or non-finite intensity or range", "re-export it");
+    }
     if (src.type == "directional") {
       light.type = LightType::Directional;
     } else if (src.type == "spot") {
       light.type = LightType::Spot;
-      light.spotAngleDeg = float(2.0 * glm::degrees(src.spot.outerConeAngle));
+      light.inverseSquare = true;
+      const double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
+      if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>())) {
+        fail(path, "spot light '" + src.name + "' needs 0 <= innerConeAngle < outerConeAngle <= pi/2", "re-export it");
+      }
+      light.spotAngleDeg = float(2.0 * glm::degrees(outer));
+      light.innerAngleDeg = float(2.0 * glm::degrees(inner));
     } else if (src.type == "point") {
       light.type = LightType::Point;
+      light.inverseSquare = true;
     } else {
       scene.warnings.push_back("glTF light type '" + src.type + "' is unknown; ignored");
       return;
     }
     scene.lights.push_back(light);
+  }
+
+  // glTF's intensities are physical (lux, candela) and the renderer has no exposure: they are scaled
+  // together so that the brightest light gives irradiance 1 at the scene's centre, ratios kept.
+  void exposeLights(const glm::vec3& centre) {
+    float brightest = 0.0f;
+    for (const Light& l : scene.lights) {
+      const glm::vec3 v = l.position - centre;
+      brightest = std::max(brightest, l.inverseSquare ? l.intensity / std::max(glm::dot(v, v), 1e-12f) : l.intensity);
+    }
+    if (brightest > 0.0f) {
+      for (Light& l : scene.lights) l.intensity /= brightest;
+    }
   }
 
   // A node entered on the way down (after its parent): its own content, then its children.
@@ -339,13 +365,14 @@ struct Converter {
       scene.meshes[a.mesh].dynamic = true;
       scene.animations.push_back({a.mesh, {}, {}, *keys});
     }
-    if (!cameraWorld) return;
-    Bounds finite;  // aim distance only: the scene radius, ignoring NaN that cleanScene drops later
+    Bounds finite;  // the scene's extent, ignoring NaN that cleanScene drops later
     for (const Mesh& m : scene.meshes) {
       for (const glm::vec3& p : m.positions) {
         if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) finite.extend(p);
       }
     }
+    if (!finite.empty()) exposeLights(finite.center());
+    if (!cameraWorld) return;
     const float distance = finite.empty() || !(finite.radius() > 0.0f) ? 1.0f : finite.radius();
     Camera camera;
     const glm::dmat4 cameraPlace = toScene * *cameraWorld;

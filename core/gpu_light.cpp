@@ -13,7 +13,7 @@ shared::GpuLight toGpuLight(const Light& light, const Bounds& bounds, float rayE
   g.position = glm::vec4(light.position, 0.0f);
   g.direction = glm::vec4(dir, 0.0f);
   g.tangent = glm::vec4(tangent, 0.0f);
-  g.color = glm::vec4(light.color, 1.0f);
+  g.color = glm::vec4(light.color * light.intensity, light.inverseSquare ? 1.0f : 0.0f);
   switch (light.type) {
     case LightType::Directional: g.type = LIGHT_DIRECTIONAL; break;
     case LightType::Spot: g.type = LIGHT_SPOT; break;
@@ -23,6 +23,10 @@ shared::GpuLight toGpuLight(const Light& light, const Bounds& bounds, float rayE
   }
   g.size = light.size;
   g.cosHalfAngle = light.type == LightType::Spot ? std::cos(glm::radians(0.5f * light.spotAngleDeg)) : -1.0f;
+  g.range = light.range;
+  g.cosInnerHalfAngle = light.type == LightType::Spot && light.innerAngleDeg >= 0.0f
+                            ? std::cos(glm::radians(0.5f * light.innerAngleDeg))
+                            : -1.0f;
   g.rayEpsilon = rayEpsilonFraction * std::max(bounds.radius(), 1e-6f);
   return g;
 }

@@ -60,6 +60,15 @@ struct Light {
   float spotAngleDeg = 60.0f;            // full cone angle, Spot only
   float size = 0.0f;                     // world units: Rect side / Disk diameter; 0 = a point
   glm::vec3 color{1.0f};
+  // How bright, relative to a light of irradiance 1: the scale of its colour in shading. glTF lights
+  // (KHR_lights_punctual) fall off by the inverse square of the distance (then intensity is the
+  // irradiance at distance 1) within their range; other lights do not fall off. The shadow does
+  // not depend on any of these: only the shaded image does.
+  float intensity = 1.0f;
+  bool inverseSquare = false;
+  float range = 0.0f;           // distance at which the light's contribution ends (glTF's window); 0 = none
+  float innerAngleDeg = -1.0f;  // Spot: full cone angle inside which it is at full strength (glTF's
+                                // innerConeAngle, fading to spotAngleDeg); < 0: full strength to the edge
 };
 
 struct Camera {
@@ -118,7 +127,7 @@ struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Texture> textures;  // those the meshes use (Cutout::texture, Mesh::colorTexture)
   std::optional<Camera> camera;  // from the file or the built-in scene; else a default framing
-  std::vector<Light> lights;     // the first one is used
+  std::vector<Light> lights;     // every one is rendered (RunSetup::lights); --light replaces them
   std::vector<std::string> warnings;  // what loading cleaned or ignored, reported in stats
   double loadMs = 0.0;                 // reading, decoding and cleaning the model (loadScene), reported in stats
   std::vector<MeshAnimation> animations;  // dynamic meshes and how they move

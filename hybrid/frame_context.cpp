@@ -306,10 +306,11 @@ void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
 }
 
 void FrameContext::begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame,
-                         FrameStats& stats) {
+                         FrameStats& stats, bool sameView, std::uint32_t lightIndex) {
   view_ = cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height));
   cameraPosition_ = camera.eye;
   frameData_ = {};
+  lightIndex_ = lightIndex;
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
   frameData_.light.sampleFrame = frame;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
@@ -332,7 +333,13 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
   stats.samplesPerPixel = frameData_.spp;
   timer_.reset();
-  gbufferRecorded_ = false;
+  gbufferRecorded_ = sameView;
+}
+
+bool FrameContext::lightReachesView(const Camera& camera, const Light& light) const {
+  if (light.range <= 0.0f || light.type == LightType::Directional) return true;
+  return sphereInView(cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height)), light.position,
+                      light.range);
 }
 
 void FrameContext::fitLightToView(FrameStats& stats) {
@@ -384,12 +391,34 @@ void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStat
   shadowMapKey_ = key;
 }
 
-void FrameContext::shade(Method& method, FrameStats& stats) {
+void FrameContext::shade(Method& method, FrameStats& stats, std::uint32_t light, std::uint32_t lights) {
   if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
+  if (lights > 1 && !direct_) {
+    direct_ = std::make_unique<gpu::Buffer>(
+        context_, pixels(settings_) * sizeof(glm::vec4),
+        vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "direct light");
+  }
+  // A light before the last adds its direct light only where its range reaches: the rectangle
+  // its range sphere projects to (GpuLight::range; the whole image for lights without one).
+  glm::uvec4 rect(0u, 0u, settings_.width, settings_.height);
+  if (light + 1 < lights && frameData_.light.range > 0.0f && frameData_.light.type != LIGHT_DIRECTIONAL) {
+    rect = screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
+                      settings_.height);
+  }
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     method.recordBeforeShade(*this, cmd, stats);
     timer_.begin(cmd, "shade");
-    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, method.term());
+    if (lights > 1 && light == 0) {
+      cmd.fillBuffer(direct_->handle(), 0, VK_WHOLE_SIZE, 0u);
+      gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
+                         vk::PipelineStageFlagBits2::eComputeShader,
+                         vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite);
+    }
+    // one light: no sum to keep, and the shader does not touch the binding (any buffer will do)
+    if (rect.z > rect.x && rect.w > rect.y) {
+      shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, direct_ ? *direct_ : indirect_, color_,
+                    method.term(), light, lights, rect);
+    }
     timer_.end(cmd);
   });
 }

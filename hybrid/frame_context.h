@@ -54,6 +54,9 @@ struct Frame {
   std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
   std::vector<std::uint8_t> pipWhy;        // with settings.pip.explain, hard shadows: PIP_WHY_* per pixel
   FrameStats stats;
+  // A frame of several lights: each light's visibility, PIP flags, sm answer and stats (no image);
+  // visibility, pip and shadowMapVisibility above are the first light's.
+  std::vector<Frame> lights;
 };
 
 class FrameContext {
@@ -64,11 +67,19 @@ class FrameContext {
   // The stages around a method's own (Renderer::render): the frame's data for this camera, light
   // and method (frame: of a sequence, rotating the light samples), the light's map fitted to the
   // view, shading, and reading the frame back.
-  void begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame, FrameStats& stats);
+  // sameView: another light of the frame just rendered, whose G-buffer stays; lightIndex: which of the
+  // frame's lights this is (lightIndex()).
+  void begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame, FrameStats& stats,
+             bool sameView = false, std::uint32_t lightIndex = 0);
+  std::uint32_t lightIndex() const { return lightIndex_; }  // methods keep state per light by it
+  // False where the light's range lies wholly outside the camera's view: every pixel is beyond it
+  // (lightReaches' range rule), so its visibility is 0 there without any pass.
+  bool lightReachesView(const Camera& camera, const Light& light) const;
   // Renders the G-buffer in a submission of its own and narrows frameData().shadow to what it sees,
   // where settings().fitLightToView applies to this light (for methods that read its map).
   void fitLightToView(FrameStats& stats);
-  void shade(Method& method, FrameStats& stats);
+  // Light `light` of the frame's `lights` (ShadePass): the last one writes the image.
+  void shade(Method& method, FrameStats& stats, std::uint32_t light = 0, std::uint32_t lights = 1);
   Frame readBack(const Method& method, FrameStats stats);
   // Renderer::sceneMoved: re-uploads the moving meshes and refits the built tracers.
   void sceneMoved();
@@ -159,6 +170,7 @@ class FrameContext {
     float distance;
   };
   std::optional<Clearance> clearance_;
+  std::uint32_t lightIndex_ = 0;
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
@@ -178,6 +190,7 @@ class FrameContext {
   std::unique_ptr<LineSpaceTracer> ntree_;
   std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
+  std::unique_ptr<gpu::Buffer> direct_;  // frames of several lights: the sum of their direct light
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};

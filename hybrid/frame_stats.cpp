@@ -38,45 +38,55 @@ nlohmann::json FrameStats::toJson() const {
     times["runs"] = totalSpreadMs->runs;
   }
   for (const auto& [pass, ms] : passMs) times[pass] = ms;
-  return {{"method", method},
-          {"tracer", orNull(tracer)},
-          {"term", term.value_or("shadow")},
-          {"denoise", orNull(denoise)},
-          {"srt_path", orNull(srtPath)},
-          {"time_ms", times},
-          {"reused_passes", reusedPasses},
-          {"pip_fraction", orNull(pipFraction)},
-          {"rays_traced", orNull(raysTraced)},
-          {"pip_pixels", orNull(pipPixels)},
-          {"pip_miss_fraction", orNull(pipMissFraction)},
-          {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
-          {"miss_causes", orNull(missCauses)},
-          {"notes", notes},
-          {"traversal", nodeVisits ? nlohmann::json{{"node_visits", *nodeVisits},
-                                                    {"triangle_tests", orNull(triangleTests)},
-                                                    {"node_visits_per_ray", raysTraced && *raysTraced ? double(*nodeVisits) / double(*raysTraced) : 0.0}}
-                                   : nlohmann::json(nullptr)},
-          {"samples_per_pixel", samplesPerPixel},
-          {"memory_bytes", memoryBytes},
-          {"counts", counts},
-          {"setup_ms", setupMs},
-          {"refit", refit ? nlohmann::json{{"ms", refit->ms}, {"sah", refit->sah}, {"built_sah", refit->builtSah},
-                                           {"sah_growth", refit->growth},
-                                           {"rebuilt", refit->rebuilt}, {"rebuilds", refit->rebuilds}}
-                          : nlohmann::json(nullptr)},
-          {"light_map_zoom", orNull(lightMapZoom)},
-          {"thin_pass", thinPass ? nlohmann::json{{"faces", thinPass->faces}, {"triangles", thinPass->triangles},
-                                                  {"thin_triangles", thinPass->thin}, {"selection_reused", thinPass->reused}}
-                                 : nlohmann::json(nullptr)},
-          {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
-          {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
-          {"trace_bytes_simulated", orNull(traceBytesSimulated)},
-          {"trace_bytes_per_ray", traceBytesSimulated && raysTraced && *raysTraced
-                                      ? nlohmann::json(double(*traceBytesSimulated) / double(*raysTraced))
-                                      : nlohmann::json(nullptr)},
-          {"trace_lines_simulated", orNull(traceLinesSimulated)},
-          {"raster_bytes_estimated", orNull(rasterBytesEstimated)},
-          {"bandwidth", bandwidth}};
+  nlohmann::json json = {
+      {"method", method},
+      {"tracer", orNull(tracer)},
+      {"term", term.value_or("shadow")},
+      {"denoise", orNull(denoise)},
+      {"srt_path", orNull(srtPath)},
+      {"time_ms", times},
+      {"reused_passes", reusedPasses},
+      {"pip_fraction", orNull(pipFraction)},
+      {"rays_traced", orNull(raysTraced)},
+      {"pip_pixels", orNull(pipPixels)},
+      {"pip_miss_fraction", orNull(pipMissFraction)},
+      {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
+      {"miss_causes", orNull(missCauses)},
+      {"notes", notes},
+      {"traversal", nodeVisits
+                        ? nlohmann::json{{"node_visits", *nodeVisits},
+                                         {"triangle_tests", orNull(triangleTests)},
+                                         {"node_visits_per_ray",
+                                          raysTraced && *raysTraced ? double(*nodeVisits) / double(*raysTraced) : 0.0}}
+                        : nlohmann::json(nullptr)},
+      {"samples_per_pixel", samplesPerPixel},
+      {"memory_bytes", memoryBytes},
+      {"counts", counts},
+      {"setup_ms", setupMs},
+      {"refit", refit ? nlohmann::json{{"ms", refit->ms},
+                                       {"sah", refit->sah},
+                                       {"built_sah", refit->builtSah},
+                                       {"sah_growth", refit->growth},
+                                       {"rebuilt", refit->rebuilt},
+                                       {"rebuilds", refit->rebuilds}}
+                      : nlohmann::json(nullptr)},
+      {"light_map_zoom", orNull(lightMapZoom)},
+      {"thin_pass", thinPass ? nlohmann::json{{"faces", thinPass->faces},
+                                              {"triangles", thinPass->triangles},
+                                              {"thin_triangles", thinPass->thin},
+                                              {"selection_reused", thinPass->reused}}
+                             : nlohmann::json(nullptr)},
+      {"error", error ? penumbra::toJson(*error) : nlohmann::json(nullptr)},
+      {"image_error", imageError ? penumbra::toJson(*imageError) : nlohmann::json(nullptr)},
+      {"trace_bytes_simulated", orNull(traceBytesSimulated)},
+      {"trace_bytes_per_ray", traceBytesSimulated && raysTraced && *raysTraced
+                                  ? nlohmann::json(double(*traceBytesSimulated) / double(*raysTraced))
+                                  : nlohmann::json(nullptr)},
+      {"trace_lines_simulated", orNull(traceLinesSimulated)},
+      {"raster_bytes_estimated", orNull(rasterBytesEstimated)},
+      {"bandwidth", bandwidth}};
+  for (const FrameStats& light : lights) json["lights"].push_back(light.toJson());
+  return json;
 }
 
 }  // namespace penumbra

@@ -69,6 +69,9 @@ struct FrameStats {
   // kernel as simulated, its breakdown per stream, and the estimate for the raster passes.
   std::optional<std::uint64_t> traceBytesSimulated, traceLinesSimulated, rasterBytesEstimated;
   nlohmann::json bandwidth;  // null unless simulated
+  // A frame of several lights: each light's own (the frame's are their sums; its error counts the
+  // pixels of every light).
+  std::vector<FrameStats> lights;
 
   void addPass(const std::string& pass, double ms);  // adds to an existing pass of that name
   nlohmann::json toJson() const;

@@ -1,5 +1,6 @@
 #include "hybrid/renderer.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/units.h"
@@ -13,18 +14,91 @@ Renderer::Renderer(const gpu::Context& context, const Scene& scene, const Render
 
 Renderer::~Renderer() = default;
 
+namespace {
+
+// The frame of several lights: the image their shading summed, the first light's buffers, every
+// light's own frame, and stats that add theirs up.
+Frame combine(std::vector<Frame> lights, Frame shaded) {
+  Frame frame;
+  frame.width = shaded.width;
+  frame.height = shaded.height;
+  frame.covered = std::move(shaded.covered);
+  frame.rgba = std::move(shaded.rgba);
+  frame.visibility = lights.front().visibility;
+  frame.pip = lights.front().pip;
+  frame.shadowMapVisibility = lights.front().shadowMapVisibility;
+  FrameStats& s = frame.stats;
+  const FrameStats& first = lights.front().stats;
+  s.method = first.method;
+  s.tracer = first.tracer;
+  s.samplesPerPixel = first.samplesPerPixel;
+  s.setupMs = first.setupMs;
+  std::uint64_t covered = 0;
+  for (Frame& light : lights) {
+    light.covered.clear();
+    light.rgba.clear();
+    const FrameStats& l = light.stats;
+    s.totalMs += l.totalMs;
+    for (const auto& [pass, ms] : l.passMs) s.addPass(pass, ms);
+    if (l.raysTraced) s.raysTraced = s.raysTraced.value_or(0) + *l.raysTraced;
+    if (l.nodeVisits) s.nodeVisits = s.nodeVisits.value_or(0) + *l.nodeVisits;
+    if (l.triangleTests) s.triangleTests = s.triangleTests.value_or(0) + *l.triangleTests;
+    if (l.pipPixels) s.pipPixels = s.pipPixels.value_or(0) + *l.pipPixels;
+    for (const auto& [what, bytes] : l.memoryBytes) s.memoryBytes[what] = std::max(s.memoryBytes[what], bytes);
+    for (const std::string& note : l.notes) {
+      if (std::find(s.notes.begin(), s.notes.end(), note) == s.notes.end()) s.notes.push_back(note);
+    }
+    covered += std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+    s.lights.push_back(l);
+  }
+  if (s.pipPixels) s.pipFraction = covered ? double(*s.pipPixels) / double(covered) : 0.0;
+  frame.lights = std::move(lights);
+  return frame;
+}
+
+}  // namespace
+
 Frame Renderer::render(const std::string& methodName, const Camera& camera, const Light& light) {
+  return render(methodName, camera, std::span<const Light>(&light, 1));
+}
+
+Frame Renderer::render(const std::string& methodName, const Camera& camera, std::span<const Light> lights) {
+  if (lights.empty()) throw InputError("a frame needs a light");
   std::unique_ptr<Method>& method = methods_[methodName];
   if (!method) method = makeMethod(methodName);
-  FrameStats stats;
-  stats.method = methodName;
-  frameContext_->begin(camera, light, *method, frame_, stats);
-  const auto start = std::chrono::steady_clock::now();
-  if (method->readsShadowMap()) frameContext_->fitLightToView(stats);
-  method->run(*frameContext_, stats);
-  frameContext_->shade(*method, stats);
-  stats.totalMs = msSince(start);
-  return frameContext_->readBack(*method, std::move(stats));
+  if (lights.size() > 1 && method->term() != Term::Shadow) {
+    throw InputError("method " + methodName + " takes one light, but the frame has " + std::to_string(lights.size()) +
+                     "; give one --light");
+  }
+  // A light whose range the view does not reach is 0 wherever the view sees: nothing runs for it.
+  std::vector<std::size_t> reaching;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    if (lights.size() == 1 || frameContext_->lightReachesView(camera, lights[i])) reaching.push_back(i);
+  }
+  if (reaching.empty()) reaching.push_back(0);  // one light shades the image
+  std::vector<Frame> frames(lights.size());
+  for (std::size_t k = 0; k < reaching.size(); ++k) {
+    FrameStats stats;
+    stats.method = methodName;
+    frameContext_->begin(camera, lights[reaching[k]], *method, frame_, stats, k > 0, std::uint32_t(reaching[k]));
+    const auto start = std::chrono::steady_clock::now();
+    if (method->readsShadowMap()) frameContext_->fitLightToView(stats);
+    method->run(*frameContext_, stats);
+    frameContext_->shade(*method, stats, std::uint32_t(k), std::uint32_t(reaching.size()));
+    stats.totalMs = msSince(start);
+    frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats));
+  }
+  if (lights.size() == 1) return std::move(frames.front());
+  Frame shaded = frames[reaching.back()];
+  for (Frame& f : frames) {
+    if (!f.visibility.empty()) continue;
+    f.width = shaded.width;
+    f.height = shaded.height;
+    f.visibility.assign(shaded.visibility.size(), 0.0f);
+    f.stats.method = methodName;
+    f.stats.notes.push_back("culled: the light's range does not reach the view");
+  }
+  return combine(std::move(frames), std::move(shaded));
 }
 
 }  // namespace penumbra

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "core/camera.h"
@@ -19,6 +20,10 @@ class Renderer {
   Renderer(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
   ~Renderer();  // out of line: Method is incomplete here
   Frame render(const std::string& method, const Camera& camera, const Light& light);
+  // Every light of the frame, one after the other through the same stages on the one G-buffer,
+  // their direct light summed in shading: Frame::lights holds each light's visibility and stats.
+  // Methods ao and indirect take one light (InputError).
+  Frame render(const std::string& method, const Camera& camera, std::span<const Light> lights);
   // The scene's dynamic meshes were posed anew (core/animation.h, between frames): re-uploads their
   // vertices, refits the built tracers' dynamic BVHs (rebuilding when the SAH grew too much) and
   // drops the Embree reference (rebuilt on next use). Frames report the refit in stats.refit.

@@ -12,15 +12,18 @@ constexpr gpu::Binding kBindings[] = {{SHADE_BINDING_POSITION, vk::DescriptorTyp
                                       {SHADE_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
                                       {SHADE_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
                                       {SHADE_BINDING_COLOR, vk::DescriptorType::eStorageBuffer},
-                                      {SHADE_BINDING_INDIRECT, vk::DescriptorType::eStorageBuffer}};
+                                      {SHADE_BINDING_INDIRECT, vk::DescriptorType::eStorageBuffer},
+                                      {SHADE_BINDING_DIRECT, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
-ShadePass::ShadePass(const gpu::Context& context) : pipeline_(context, shade_comp, kBindings, sizeof(std::uint32_t), "shade pipeline") {}
+ShadePass::ShadePass(const gpu::Context& context)
+    : pipeline_(context, shade_comp, kBindings, sizeof(shared::ShadePush), "shade pipeline") {}
 
 void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-                       const gpu::Buffer& visibility, const gpu::Buffer& indirect, const gpu::Buffer& color,
-                       Term term) const {
+                       const gpu::Buffer& visibility, const gpu::Buffer& indirect, const gpu::Buffer& direct,
+                       const gpu::Buffer& color, Term term, std::uint32_t light, std::uint32_t lights,
+                       const glm::uvec4& rect) const {
   pipeline_.bind(cmd, gpu::Descriptors{}
                           .storageImage(SHADE_BINDING_POSITION, gbuffer.position().view())
                           .storageImage(SHADE_BINDING_NORMAL, gbuffer.normal().view())
@@ -28,10 +31,11 @@ void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuffer
                           .buffer(SHADE_BINDING_FRAME, frame)
                           .buffer(SHADE_BINDING_VISIBILITY, visibility)
                           .buffer(SHADE_BINDING_COLOR, color)
-                          .buffer(SHADE_BINDING_INDIRECT, indirect));
-  pipeline_.pushConstants(cmd, std::uint32_t(term));
-  cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
-               (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
+                          .buffer(SHADE_BINDING_INDIRECT, indirect)
+                          .buffer(SHADE_BINDING_DIRECT, direct));
+  pipeline_.pushConstants(cmd, shared::ShadePush{glm::uvec2(rect), std::uint32_t(term), light, lights});
+  cmd.dispatch((rect.z - rect.x + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
+               (rect.w - rect.y + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);
 }
 

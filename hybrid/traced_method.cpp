@@ -6,6 +6,7 @@
 //        G-buffer (no compaction: frt at its best); Embree, and --simulate-bandwidth, compact them.
 // Tracers write visibility[pixel] directly, so the write-back is part of the trace pass.
 #include <chrono>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -107,29 +108,31 @@ class TracedMethod final : public Method {
   }
 
   // --srt-choice auto: srt takes whichever path its own last timings of both say is cheaper
-  // on this device, scene and view (where the light's map and the classification cost more than
-  // the rays they save, it traces every covered pixel, as frt does, and says so). Its first frame
+  // on this device, scene, view and light (where the light's map and the classification cost more
+  // than the rays they save, it traces every covered pixel, as frt does, and says so; each light of
+  // a frame keeps its own timings, so a lamp that lights a few pixels traces them and skips its map). Its first frame
   // runs each path twice and keeps the second, warm, times (on lavapipe a path's first run also
   // pays the first touch of its buffers: +35% at 1024^2), the classify path last, so that the
   // frame's result is the paper's; every kRemeasureFrames frames the other path runs once more,
   // as views and content change.
   void choose(FrameContext& r, ShadowTracer& tracer, FrameStats& stats) {
     constexpr std::uint64_t kRemeasureFrames = 32;
-    if (!classifyMs_ || !traceAllMs_) {
+    Choice& c = choices_[r.lightIndex()];
+    if (!c.classifyMs || !c.traceAllMs) {
       for (int run = 0; run < 2; ++run) {
-        traceAllMs_ = timedTrace(r, tracer, false, stats);
-        classifyMs_ = timedTrace(r, tracer, true, stats);
+        c.traceAllMs = timedTrace(r, tracer, false, stats);
+        c.classifyMs = timedTrace(r, tracer, true, stats);
       }
       stats.notes.push_back("srt measured both of its paths in this frame (--srt-choice auto): classify " +
-                            std::to_string(*classifyMs_) + " ms, trace every pixel " + std::to_string(*traceAllMs_) +
+                            std::to_string(*c.classifyMs) + " ms, trace every pixel " + std::to_string(*c.traceAllMs) +
                             " ms; the frame is the classify path's, its time both's");
     } else {
-      bool classify = *classifyMs_ <= *traceAllMs_;
-      if (++frames_ % kRemeasureFrames == 0) classify = !classify;
-      (classify ? classifyMs_ : traceAllMs_) = timedTrace(r, tracer, classify, stats);
+      bool classify = *c.classifyMs <= *c.traceAllMs;
+      if (++c.frames % kRemeasureFrames == 0) classify = !classify;
+      (classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, stats);
       if (!classify) {
         stats.notes.push_back("srt traced every covered pixel (--srt-choice auto): its classify path last took " +
-                              std::to_string(*classifyMs_) + " ms, this one " + std::to_string(*traceAllMs_) + " ms");
+                              std::to_string(*c.classifyMs) + " ms, this one " + std::to_string(*c.traceAllMs) + " ms");
       }
     }
     stats.srtPath = classified_ ? "classify" : "trace_all";
@@ -154,8 +157,11 @@ class TracedMethod final : public Method {
   bool selective_;
   bool classified_ = false;  // this frame took the classify path (its flags and sm answer are the frame's)
   std::optional<TraceJob> lastJob_;  // this frame's last trace
-  std::optional<double> classifyMs_, traceAllMs_;  // --srt-choice auto: each path's last time
-  std::uint64_t frames_ = 0;
+  struct Choice {                    // --srt-choice auto, per light of the frame: each path's last time
+    std::optional<double> classifyMs, traceAllMs;
+    std::uint64_t frames = 0;
+  };
+  std::map<std::uint32_t, Choice> choices_;
   std::unique_ptr<DenoisePass> denoiser_;
   std::string tracerName_;  // empty: the settings' tracer
 };

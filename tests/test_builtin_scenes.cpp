@@ -93,16 +93,19 @@ void expectWellFormed(const Scene& scene) {
   EXPECT_GT(glm::length(scene.camera->target - scene.camera->eye), 0.0f);
   EXPECT_GT(scene.camera->fovYDeg, 0.0f);
   EXPECT_LT(scene.camera->fovYDeg, 180.0f);
-  ASSERT_EQ(scene.lights.size(), 1u);
-  EXPECT_NEAR(glm::length(scene.lights[0].direction), 1.0f, 1e-5f);
-  EXPECT_TRUE(finite(scene.lights[0].position));
+  ASSERT_EQ(scene.lights.size(), scene.name == "builtin:street" ? scene.lights.size() : 1u);  // the street: many
+  ASSERT_FALSE(scene.lights.empty());
+  for (const Light& light : scene.lights) {
+    EXPECT_NEAR(glm::length(light.direction), 1.0f, 1e-5f);
+    EXPECT_TRUE(finite(light.position));
+  }
 }
 
 }  // namespace
 
-TEST(BuiltinScenes, ListsTheNineScenes) {
-  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "wires", "square", "checker",
-                                                           "room", "foliage", "level", "knot"}));
+TEST(BuiltinScenes, ListsTheTenScenes) {
+  EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"courtyard", "courtyard-moving", "street", "wires", "square",
+                                                           "checker", "room", "foliage", "level", "knot"}));
 }
 
 TEST(BuiltinScenes, EachIsWellFormedAndSurvivesCleaning) {
@@ -143,6 +146,35 @@ TEST(BuiltinScenes, CourtyardTriangleCountGrowsWithLevelAsDocumented) {
   EXPECT_GE(defaultCount, 10000u);
   EXPECT_LT(defaultCount, 100000u);
   expectWellFormed(makeBuiltinScene("courtyard:1"));
+}
+
+// The street: one point lamp per post, of range 7, lighting the road below at irradiance 1; the
+// camera the same for every count; counts outside 1..256 refused with the syntax.
+TEST(BuiltinScenes, StreetHasALampPerPost) {
+  for (int lamps : {1, 4, 16, 64}) {
+    Scene s = makeBuiltinScene("street:" + std::to_string(lamps));
+    ASSERT_EQ(s.lights.size(), std::size_t(lamps));
+    for (const Light& l : s.lights) {
+      EXPECT_EQ(l.type, LightType::Point);
+      EXPECT_TRUE(l.inverseSquare);
+      EXPECT_FLOAT_EQ(l.range, 7.0f);
+      EXPECT_NEAR(l.intensity / (l.position.y * l.position.y), 1.0f, 1e-6f);
+    }
+    EXPECT_EQ(s.camera->eye, makeBuiltinScene("street:1").camera->eye);
+    expectWellFormed(s);
+    const std::size_t count = s.triangleCount();
+    cleanScene(s, "builtin:street");
+    EXPECT_EQ(s.triangleCount(), count);
+  }
+  EXPECT_EQ(makeBuiltinScene("street").lights.size(), 16u);
+  for (const char* bad : {"street:0", "street:257", "street:x"}) {
+    try {
+      makeBuiltinScene(bad);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("builtin:street:LAMPS"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(BuiltinScenes, CourtyardLevel64HasOverAMillionCleanTriangles) {

@@ -5,12 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include "bounds.h"
 #include "core/gpu_light.h"
 #include "core/metrics.h"
 #include "core/view.h"
-#include "shared/pip.h"
-#include "bounds.h"
 #include "render_fixture.h"
+#include "shared/pip.h"
 
 namespace penumbra::test {
 namespace {
@@ -149,7 +149,8 @@ TEST(SceneAccuracy, AcneUnderAWideSpotIsTraced) {
               std::abs(sm.visibility[i] - reference.visibility[i]) > kWrongThresholdHard;
   }
   EXPECT_GT(caught, 20u);
-  EXPECT_EQ(compareVisibility(srt.visibility, reference.visibility, reference.covered, kWrongThresholdHard).wrongPixelFraction,
+  EXPECT_EQ(compareVisibility(srt.visibility, reference.visibility, reference.covered, kWrongThresholdHard)
+                .wrongPixelFraction,
             bound::kSrtWrong);
   expectValidationSilent();
 }

@@ -36,7 +36,7 @@ DemoSession::DemoSession(const gpu::Context& context, RunSetup setup, std::strin
       method_(std::move(method)),
       canonicalViews_(canonicalViews),
       camera_(setup_.camera, bounds_),
-      light_(setup_.light),
+      light_(setup_.lights.front()),
       lightSizeFraction_(setup_.lightSizeFraction),
       animated_(isAnimated(setup_.scene)) {
   term_ = methodTerm(method_);  // unknown names fail before the GPU work

@@ -17,14 +17,15 @@ struct GpuLight {
   vec4 position;   // xyz world position (unused by directional)
   vec4 direction;  // xyz unit: where the light points (travel direction for directional)
   vec4 tangent;    // xyz unit, orthogonal to direction: first edge of a rect, any axis of a disk
-  vec4 color;      // rgb
+  vec4 color;      // rgb: colour times intensity (Light::intensity); w: 1 = inverse-square falloff
   uint type;
   float size;          // rect side / disk diameter in world units; 0 = point
   float cosHalfAngle;  // spot cone; -1 for other lights
   float rayEpsilon;    // smallest shadow-ray origin offset along the normal, world units (shadowRayOrigin)
   uint sampleFrame;    // frame of a sequence: rotates every pixel's samples (lightSampleOffset); 0 = unrotated
   uint sharedPattern;  // 1: every pixel uses the same samples (those of SHARED_PATTERN_SEED: method bitmask's)
-  uint pad1, pad2;
+  float range;         // > 0: the contribution ends at this distance (glTF's window)
+  float cosInnerHalfAngle;  // spot: full strength inside this cone, fading to cosHalfAngle's
 };
 
 // The seed of the one pattern every pixel uses when GpuLight::sharedPattern is set: method bitmask
@@ -103,15 +104,38 @@ PN_FN vec3 directionToLight(GpuLight light, vec3 p, vec3 q) {
 }
 
 // Whether light from q can reach p at all, before occlusion: p's surface (normal n) faces q,
-// p is inside a spot's cone and in front of a rect/disk. Every method applies this same rule.
+// p is within the light's range, inside a spot's cone and in front of a rect/disk. Every method
+// applies this same rule.
 PN_FN bool lightReaches(GpuLight light, vec3 p, vec3 n, vec3 q) {
   vec3 l = directionToLight(light, p, q);
   if (dot(n, l) <= 0.0f) return false;
+  if (light.range > 0.0f && light.type != LIGHT_DIRECTIONAL) {
+    vec3 v = p - vec3(light.position);
+    if (dot(v, v) >= light.range * light.range) return false;
+  }
   if (light.type == LIGHT_SPOT) return dot(-l, vec3(light.direction)) >= light.cosHalfAngle;
   if (light.type == LIGHT_RECT || light.type == LIGHT_DISK) {
     return dot(p - vec3(light.position), vec3(light.direction)) > 0.0f;
   }
   return true;
+}
+
+// How much of the light's colour reaches p before occlusion and the cosine (KHR_lights_punctual's
+// falloff): 1 for lights that do not fall off, so that their frames are unchanged by it.
+PN_FN float lightFalloff(GpuLight light, vec3 p, vec3 l) {
+  if (light.type == LIGHT_DIRECTIONAL) return 1.0f;
+  float w = 1.0f;
+  vec3 v = p - vec3(light.position);
+  float d2 = dot(v, v);
+  if (light.color.w != 0.0f) w = 1.0f / max(d2, 1e-12f);
+  if (light.range > 0.0f) {
+    float x = d2 / (light.range * light.range);
+    w *= clamp(1.0f - x * x, 0.0f, 1.0f);
+  }
+  if (light.type == LIGHT_SPOT && light.cosInnerHalfAngle > light.cosHalfAngle) {
+    w *= smoothstep(light.cosHalfAngle, light.cosInnerHalfAngle, dot(-l, vec3(light.direction)));
+  }
+  return w;
 }
 
 // Corner i (0..3) of a rect light; for a disk the rim points on its two axes. The maps from these

@@ -34,8 +34,9 @@ PN_BEGIN
 #define PIP_GAP 64u       // the map puts the receiver in umbra, but the texels around its point hold
                           // different blockers: light may pass through a gap between them narrower
                           // than a texel (the dual of a thin triangle)
-#define PIP_ACNE 128u     // the map puts the receiver in umbra, but its blocker lies within the receiver's
-                          // own depth interval: it may be the receiver itself (acne the bias left)
+// PIP_ACNE: the map puts the receiver in umbra, but its blocker lies within the receiver's own
+// depth interval, so it may be the receiver itself (acne the bias left)
+#define PIP_ACNE 128u
 
 // Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.

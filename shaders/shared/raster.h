@@ -23,6 +23,16 @@ PN_BEGIN
 #define SHADE_BINDING_VISIBILITY 4  // float per pixel
 #define SHADE_BINDING_COLOR 5       // packed RGBA8 per pixel, written
 #define SHADE_BINDING_INDIRECT 6    // vec4 per pixel: rgb one-bounce light, a occlusion
+#define SHADE_BINDING_DIRECT 7      // vec4 per pixel: rgb direct light of the frame's lights so far
+
+// Push constants of the shading pass: the method's term (hybrid/method.h Term: 0 shadow, 1 ao,
+// 2 indirect), which of the frame's lights this pass adds, and the pixels it covers.
+struct ShadePush {
+  uvec2 origin;  // the first pixel of the rectangle the pass covers (the image, or a light's reach)
+  uint term;
+  uint light;  // 0 .. lights - 1; the passes before the last add into the direct buffer (zeroed first)
+  uint lights;
+};
 
 #define GBUFFER_BINDING_COLOR 0  // gbuffer_textured.frag, gbuffer_cutout.frag: the mesh's colour texture (sampled)
 
