@@ -328,6 +328,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h); the
   // camera pass's colour textures
   need.textures = 2 * cutoutDataBytes(s.scene) + raster::colorTextureBytes(s.scene);
+  if (s.lights.size() > 1)
+    need.perPixel += std::uint64_t(s.settings.width) * s.settings.height * 16;  // the lights' sum
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     writeViewFile(

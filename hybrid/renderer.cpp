@@ -16,14 +16,14 @@ Renderer::~Renderer() = default;
 
 namespace {
 
-// The frame of several lights: the image their shading summed, the first light's buffers, every
-// light's own frame, and stats that add theirs up.
-Frame combine(std::vector<Frame> lights, Frame shaded) {
+// The frame of several lights: the image their shading summed (with its coverage, from the last
+// light shaded), the first light's buffers, every light's own frame, and stats that add theirs up.
+Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std::vector<std::uint8_t> rgba) {
   Frame frame;
-  frame.width = shaded.width;
-  frame.height = shaded.height;
-  frame.covered = std::move(shaded.covered);
-  frame.rgba = std::move(shaded.rgba);
+  frame.width = lights.front().width;
+  frame.height = lights.front().height;
+  frame.covered = std::move(covered);
+  frame.rgba = std::move(rgba);
   frame.visibility = lights.front().visibility;
   frame.pip = lights.front().pip;
   frame.shadowMapVisibility = lights.front().shadowMapVisibility;
@@ -33,7 +33,7 @@ Frame combine(std::vector<Frame> lights, Frame shaded) {
   s.tracer = first.tracer;
   s.samplesPerPixel = first.samplesPerPixel;
   s.setupMs = first.setupMs;
-  std::uint64_t covered = 0;
+  std::uint64_t coveredLights = 0;
   for (Frame& light : lights) {
     light.covered.clear();
     light.rgba.clear();
@@ -48,10 +48,10 @@ Frame combine(std::vector<Frame> lights, Frame shaded) {
     for (const std::string& note : l.notes) {
       if (std::find(s.notes.begin(), s.notes.end(), note) == s.notes.end()) s.notes.push_back(note);
     }
-    covered += std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+    coveredLights += std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
     s.lights.push_back(l);
   }
-  if (s.pipPixels) s.pipFraction = covered ? double(*s.pipPixels) / double(covered) : 0.0;
+  if (s.pipPixels) s.pipFraction = coveredLights ? double(*s.pipPixels) / double(coveredLights) : 0.0;
   frame.lights = std::move(lights);
   return frame;
 }
@@ -89,16 +89,17 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
     frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats));
   }
   if (lights.size() == 1) return std::move(frames.front());
-  Frame shaded = frames[reaching.back()];
+  Frame& shaded = frames[reaching.back()];
+  std::vector<std::uint8_t> covered = std::move(shaded.covered), rgba = std::move(shaded.rgba);
   for (Frame& f : frames) {
     if (!f.visibility.empty()) continue;
     f.width = shaded.width;
     f.height = shaded.height;
-    f.visibility.assign(shaded.visibility.size(), 0.0f);
+    f.visibility.assign(covered.size(), 0.0f);
     f.stats.method = methodName;
     f.stats.notes.push_back("culled: the light's range does not reach the view");
   }
-  return combine(std::move(frames), std::move(shaded));
+  return combine(std::move(frames), std::move(covered), std::move(rgba));
 }
 
 }  // namespace penumbra
