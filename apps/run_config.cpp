@@ -15,6 +15,7 @@
 #include "core/animation.h"
 #include "core/builtin_scenes.h"
 #include "core/cutouts.h"
+#include "core/lights_file.h"
 #include "core/metrics.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
@@ -113,7 +114,11 @@ void addRunOptions(CLI::App& app, RunConfig& c) {
       ->take_last()
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  app.add_option("--light-size", c.lightSize, "Area light extent as a fraction of the scene radius (0 = point light)")
+  app.add_option("--lights", c.lightsFile,
+                 "JSON file of lights, each with its own size, colour, intensity and range (docs/cli.md); "
+                 "with --light, both sets");
+  app.add_option("--light-size", c.lightSize,
+                 "Area light extent as a fraction of the scene radius (0 = point light); given, it sizes every light")
       ->each([&c](const std::string&) { c.lightSizeGiven = true; });
   app.add_option("--time", c.time, "Animated scenes (e.g. builtin:courtyard-moving): pose at this many seconds")
       ->each([&c](const std::string&) { c.timeGiven = true; });
@@ -283,11 +288,20 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
     s.camera = defaultCamera(bounds);
     std::cout << "camera (default): --camera " << formatCamera(s.camera, origin) << "\n";
   }
+  // Lights that carry their own size (a lights file's, a view's "lights", the scene's) keep it unless
+  // --light-size is given; specs take --light-size (or the view's light_size).
   for (const std::string& spec : c.lights) s.lights.push_back(parseLight(spec, origin));
-  if (s.lights.empty() && view) s.lights = {view->light};
+  std::size_t sizedByFraction = s.lights.size();
+  if (!c.lightsFile.empty()) {
+    const std::vector<Light> file = readLightsFile(c.lightsFile, origin);
+    s.lights.insert(s.lights.end(), file.begin(), file.end());
+  }
+  if (s.lights.empty() && view && !view->lights.empty()) s.lights = view->lights;
+  if (s.lights.empty() && view) s.lights = {view->light}, sizedByFraction = 1;
   if (s.lights.empty()) s.lights = s.scene.lights;
   if (s.lights.empty()) {
     s.lights = {defaultLight(bounds)};
+    sizedByFraction = 1;
     std::cout << "light (default): --light " << formatLight(s.lights.front(), origin) << "\n";
   }
   s.time = c.timeGiven || !view ? c.time : view->time;
@@ -297,7 +311,9 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   }
   poseScene(s.scene, s.time);
   s.lightSizeFraction = c.lightSizeGiven || !view ? c.lightSize : view->lightSizeFraction;
-  for (Light& light : s.lights) applyLightSize(light, s.lightSizeFraction, bounds);
+  for (std::size_t i = 0; i < s.lights.size(); ++i) {
+    if (i < sizedByFraction || c.lightSizeGiven) applyLightSize(s.lights[i], s.lightSizeFraction, bounds);
+  }
   if (s.lights.size() > 1 && s.settings.denoise.mode != DenoiseMode::Off) {
     throw InputError("--denoise filters the shadow of one light; this run has " + std::to_string(s.lights.size()) +
                      " lights (give one --light)");
@@ -332,10 +348,12 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
     need.perPixel += std::uint64_t(s.settings.width) * s.settings.height * 16;  // the lights' sum
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
-    writeViewFile(
-        c.saveView,
-        {s.camera, s.lights.front(), s.lightSizeFraction, int(s.settings.width), int(s.settings.height), s.time},
-        origin);
+    // "light" and light_size hold one light sized by a fraction; every other set goes in "lights".
+    const bool ownLights = s.lights.size() > 1 || sizedByFraction == 0;
+    writeViewFile(c.saveView,
+                  {s.camera, s.lights.front(), s.lightSizeFraction, ownLights ? s.lights : std::vector<Light>{},
+                   int(s.settings.width), int(s.settings.height), s.time},
+                  origin);
   }
   return s;
 }
@@ -350,7 +368,8 @@ nlohmann::json describeRun(const RunConfig& c, const RunSetup& s, const gpu::Con
                      {"lights",
                       [&] {
                         nlohmann::json lights = nlohmann::json::array();
-                        for (const Light& l : s.lights) lights.push_back(formatLight(l, s.scene.origin));
+                        for (const Light& l : s.lights)
+                          lights.push_back(nlohmann::json(lightToJson(l, s.scene.origin)));
                         return lights;
                       }()},
                      {"origin", {s.scene.origin.x, s.scene.origin.y, s.scene.origin.z}},

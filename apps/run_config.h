@@ -26,6 +26,7 @@ struct RunConfig {
   std::string scene = "builtin:courtyard";
   std::string camera, viewFile, saveView;
   std::vector<std::string> lights;  // --light, repeatable
+  std::string lightsFile;           // --lights
   float lightSize = 0.0f;
   bool lightSizeGiven = false;
   double time = 0.0;  // animated scenes: pose at this many seconds

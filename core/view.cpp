@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/lights_file.h"
+
 namespace penumbra {
 
 namespace {
@@ -297,8 +299,7 @@ void applyLightSize(Light& light, float fractionOfRadius, const Bounds& bounds) 
   light.size = fractionOfRadius * radius;
 }
 
-View readViewFile(const std::string& path, const glm::dvec3& origin) {
-  const std::string file = "view file '" + path + "'";
+nlohmann::json readJsonFile(const std::string& path, const std::string& file, const std::string& expected) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(file + " does not exist or is not a regular file; check the path");
@@ -307,19 +308,23 @@ View readViewFile(const std::string& path, const glm::dvec3& origin) {
   std::stringstream text;
   text << in.rdbuf();
   if (!in) throw InputError(file + " cannot be read; check its permissions");
-
-  nlohmann::json json;
   try {
-    json = nlohmann::json::parse(text.str());
+    return nlohmann::json::parse(text.str());
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(file + " is not valid JSON (" + e.what() + "); expected " +
-                     "{\"camera\": \"...\", \"light\": \"...\", \"light_size\": 0, \"resolution\": [256, 256]}");
+    throw InputError(file + " is not valid JSON (" + e.what() + "); expected " + expected);
   }
+}
+
+View readViewFile(const std::string& path, const glm::dvec3& origin) {
+  const std::string file = "view file '" + path + "'";
+  const nlohmann::json json = readJsonFile(
+      path, file, "{\"camera\": \"...\", \"light\": \"...\", \"light_size\": 0, \"resolution\": [256, 256]}");
   if (!json.is_object()) throw InputError(file + " must hold a JSON object with camera, light and resolution");
   for (const auto& [key, value] : json.items()) {
-    if (key != "camera" && key != "light" && key != "light_size" && key != "resolution" && key != "time") {
+    if (key != "camera" && key != "light" && key != "light_size" && key != "lights" && key != "resolution" &&
+        key != "time") {
       throw InputError(file + " has the unknown field \"" + key +
-                       "\"; the fields are camera, light, light_size, resolution and time");
+                       "\"; the fields are camera, light, light_size, lights, resolution and time");
     }
   }
   const auto field = [&](const char* name) -> const nlohmann::json& {
@@ -352,6 +357,7 @@ View readViewFile(const std::string& path, const glm::dvec3& origin) {
     const std::string problem = lightSizeProblem(view.light, view.lightSizeFraction);
     if (!problem.empty()) throw fieldError("light_size", problem);
   }
+  if (json.contains("lights")) view.lights = lightsFromJson(json.at("lights"), file, origin);
   const nlohmann::json& resolution = field("resolution");
   const auto inRange = [](const nlohmann::json& v) {
     return v.is_number_integer() && v.get<std::int64_t>() >= 1 && v.get<std::int64_t>() <= 16384;
@@ -387,6 +393,10 @@ void writeViewFile(const std::string& path, const View& view, const glm::dvec3& 
   double size = 0.0;
   std::from_chars(sizeText.data(), sizeText.data() + sizeText.size(), size);
   json["light_size"] = size;
+  if (!view.lights.empty()) {
+    json["lights"] = nlohmann::ordered_json::array();
+    for (const Light& light : view.lights) json["lights"].push_back(lightToJson(light, origin));
+  }
   json["resolution"] = {view.width, view.height};
   if (view.time != 0.0) json["time"] = view.time;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -9,6 +9,9 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 #include "core/scene.h"
 
@@ -48,10 +51,16 @@ struct View {
   Camera camera;
   Light light;
   float lightSizeFraction = 0.0f;  // --light-size
+  // "lights" (core/lights_file.h): every light of a view of several, each with its own size, colour
+  // and range; empty: the view's one light is `light`, sized by lightSizeFraction.
+  std::vector<Light> lights;
   int width = 256;
   int height = 256;
   double time = 0.0;  // animated scenes: seconds into the animation (optional field "time")
 };
+// The JSON in a file; InputError naming it (`file`, e.g. "view file 'x'") when it is missing,
+// unreadable or not JSON (then saying what was `expected`).
+nlohmann::json readJsonFile(const std::string& path, const std::string& file, const std::string& expected);
 // InputError naming the file and the bad field.
 View readViewFile(const std::string& path, const glm::dvec3& origin = glm::dvec3(0.0));
 void writeViewFile(const std::string& path, const View& view, const glm::dvec3& origin = glm::dvec3(0.0));

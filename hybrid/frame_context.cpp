@@ -178,10 +178,24 @@ void FrameContext::sceneMoved() {
   }
 }
 
+glm::uvec4 FrameContext::lightRect() const {
+  if (frameData_.light.range <= 0.0f || frameData_.light.type == LIGHT_DIRECTIONAL) {
+    return {0u, 0u, settings_.width, settings_.height};
+  }
+  return screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
+                    settings_.height);
+}
+
 TraceJob FrameContext::traceJob(const ShadowTracer& tracer, TraceList list) {
   const bool inPlace = list == TraceList::EveryCovered && tracer.tracesInPlace() && !settings_.simulateBandwidth;
-  if (frameData_.traceInPlace != (inPlace ? 1u : 0u)) {
+  // An in-place trace covers the light's rectangle only, where that is less than the image.
+  glm::uvec4 rect(0u);
+  if (inPlace && lightRect() != glm::uvec4(0u, 0u, settings_.width, settings_.height)) rect = lightRect();
+  const glm::uvec4 was(frameData_.traceRectMin, frameData_.traceRectMax);
+  if (frameData_.traceInPlace != (inPlace ? 1u : 0u) || was != rect) {
     frameData_.traceInPlace = inPlace ? 1u : 0u;
+    frameData_.traceRectMin = glm::uvec2(rect.x, rect.y);
+    frameData_.traceRectMax = glm::uvec2(rect.z, rect.w);
     frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));  // no submission is running
   }
   return {compact_.points(), compact_.count(), frameBuffer_, visibility_, gbuffer_.position().view(), gbuffer_.normal().view()};
@@ -216,10 +230,13 @@ void FrameContext::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameS
 }
 
 void FrameContext::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
-  // Every tile's pixels, in rows of as many workgroups as the device dispatches (tracePointIndex).
-  const std::uint32_t items = shared::compactItems(settings_.width, settings_.height);
+  // Every tile's pixels of the trace rectangle (trace_points.glsl), in rows of as many workgroups as
+  // the device dispatches (tracePointIndex).
+  const glm::uvec4 rect = traceRect();
+  const std::uint32_t items = shared::compactItems(rect.z - rect.x, rect.w - rect.y);
   const std::uint32_t groups = (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
-  const std::uint32_t row = std::min(groups, context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0]);
+  const std::uint32_t row =
+      std::max(1u, std::min(groups, context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0]));
   recordTraceCount(cmd, {items, row, (groups + row - 1) / row, 1});
 }
 
@@ -295,8 +312,16 @@ void FrameContext::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32
   timer_.end(cmd);
 }
 
+glm::uvec4 FrameContext::traceRect() const {
+  if (frameData_.traceRectMax == glm::uvec2(0u)) return {0u, 0u, settings_.width, settings_.height};
+  return {frameData_.traceRectMin, frameData_.traceRectMax};
+}
+
 void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
-  cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);  // 1.0f
+  // 1 where the trace leaves a pixel; 0 when it covers the light's rectangle only: beyond it the
+  // light reaches no pixel.
+  const bool wholeImage = frameData_.traceRectMax == glm::uvec2(0u);
+  cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, wholeImage ? 0x3f800000u : 0u);  // 1.0f or 0.0f
   cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);               // rays go all the way to the light
   const vk::MemoryBarrier2 barrier{.srcStageMask = vk::PipelineStageFlagBits2::eClear,
                                    .srcAccessMask = vk::AccessFlagBits2::eTransferWrite,
@@ -316,11 +341,17 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
   frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
   if (frameData_.shadow.kind == SHADOW_CUBE) {  // its near plane out to the nearest geometry (depth precision)
+    constexpr std::size_t kMaxClearances = 1024;
     const glm::vec3 at(frameData_.light.position);
-    if (!clearance_ || clearance_->at != at || clearance_->sceneVersion != sceneVersion_) {
-      clearance_ = Clearance{at, sceneVersion_, distanceToNearestTriangle(scene_, at)};
+    std::erase_if(clearances_, [&](const Clearance& c) { return c.sceneVersion != sceneVersion_; });
+    auto known = std::find_if(clearances_.begin(), clearances_.end(), [&](const Clearance& c) { return c.at == at; });
+    if (known == clearances_.end()) {
+      if (clearances_.size() >= kMaxClearances) clearances_.clear();  // lights that move: do not grow without end
+      known =
+          clearances_.insert(clearances_.end(), Clearance{at, sceneVersion_, distanceToNearestTriangle(scene_, at)});
     }
-    frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap, false, clearance_->distance);
+    frameData_.shadow =
+        raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap, false, known->distance);
   }
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
@@ -334,6 +365,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   stats.samplesPerPixel = frameData_.spp;
   timer_.reset();
   gbufferRecorded_ = sameView;
+  coveredRead_ = coveredRead_ && sameView;
 }
 
 bool FrameContext::lightReachesView(const Camera& camera, const Light& light) const {
@@ -362,6 +394,7 @@ void FrameContext::fitLightToView(FrameStats& stats) {
 
 void FrameContext::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
   if (gbufferRecorded_) return;
+  coveredRead_ = false;
   timer_.begin(cmd, "gbuffer");
   gbuffer_.record(cmd, geometry_, view_, cameraPosition_);
   timer_.end(cmd);
@@ -400,11 +433,7 @@ void FrameContext::shade(Method& method, FrameStats& stats, std::uint32_t light,
   }
   // A light before the last adds its direct light only where its range reaches: the rectangle
   // its range sphere projects to (GpuLight::range; the whole image for lights without one).
-  glm::uvec4 rect(0u, 0u, settings_.width, settings_.height);
-  if (light + 1 < lights && frameData_.light.range > 0.0f && frameData_.light.type != LIGHT_DIRECTIONAL) {
-    rect = screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
-                      settings_.height);
-  }
+  const glm::uvec4 rect = light + 1 < lights ? lightRect() : glm::uvec4(0u, 0u, settings_.width, settings_.height);
   context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
     method.recordBeforeShade(*this, cmd, stats);
     timer_.begin(cmd, "shade");
@@ -423,27 +452,40 @@ void FrameContext::shade(Method& method, FrameStats& stats, std::uint32_t light,
   });
 }
 
-Frame FrameContext::readBack(const Method& method, FrameStats stats) {
+Frame FrameContext::readBack(const Method& method, FrameStats stats, bool image) {
   for (const auto& [pass, ms] : timer_.read()) stats.addPass(pass, ms);
   Frame frame;
   frame.width = settings_.width;
   frame.height = settings_.height;
-  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { gbuffer_.recordReadback(cmd); });
-  const std::vector<glm::vec4> positions = gbuffer_.positions();
-  frame.covered.resize(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) frame.covered[i] = positions[i].w != 0.0f;
+  if (!coveredRead_) {  // once per G-buffer: the frame's other lights share it
+    context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { gbuffer_.recordReadback(cmd); });
+    const std::vector<glm::vec4> positions = gbuffer_.positions();
+    covered_.resize(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) covered_[i] = positions[i].w != 0.0f;
+    coveredRead_ = true;
+  }
+  frame.covered = covered_;
+  const std::size_t pixels = covered_.size();
   if (method.term() == Term::Shadow) {
-    frame.visibility = visibility_.download<float>(positions.size());
+    frame.visibility = visibility_.download<float>(pixels);
   } else {  // the frame's term: ao = 1 - occlusion, indirect = the mean of rgb
-    const auto light = indirect_.download<glm::vec4>(positions.size());
+    const auto light = indirect_.download<glm::vec4>(pixels);
     frame.visibility.resize(light.size());
     for (std::size_t i = 0; i < light.size(); ++i) {
       frame.visibility[i] = method.term() == Term::Ao ? 1.0f - light[i].a : (light[i].r + light[i].g + light[i].b) / 3.0f;
     }
   }
-  frame.rgba = color_.download<std::uint8_t>(positions.size() * 4);
+  if (image) frame.rgba = color_.download<std::uint8_t>(pixels * 4);
   const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
-  if (frameData_.traceInPlace) stats.pipPixels = covered;  // every covered pixel, read from the G-buffer
+  if (frameData_.traceInPlace) {  // every covered pixel of the trace rectangle, read from the G-buffer
+    const glm::uvec4 rect = traceRect();
+    std::uint64_t traced = 0;
+    for (std::uint32_t y = rect.y; y < rect.w; ++y) {
+      traced += std::count(frame.covered.begin() + y * frame.width + rect.x,
+                           frame.covered.begin() + y * frame.width + rect.z, std::uint8_t(1));
+    }
+    stats.pipPixels = traced;
+  }
   if (stats.pipPixels) {
     stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;
     if (method.classifies() && shared::isAreaLight(frameData_.light) && *stats.pipFraction > 0.75) {
@@ -452,16 +494,16 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     }
   }
   if (method.classifies()) {
-    const auto flags = traceFlags_.download<std::uint32_t>(positions.size());
+    const auto flags = traceFlags_.download<std::uint32_t>(pixels);
     frame.pip.assign(flags.begin(), flags.end());
     // The classification stored the sm answer again only where it flagged (the trace overwrites
     // those); elsewhere the final visibility is it.
-    frame.shadowMapVisibility = smVisibility_.download<float>(positions.size());
+    frame.shadowMapVisibility = smVisibility_.download<float>(pixels);
     for (std::size_t i = 0; i < flags.size(); ++i) {
       if (flags[i] == 0u) frame.shadowMapVisibility[i] = frame.visibility[i];
     }
     if (settings_.pip.explain && !shared::isAreaLight(frameData_.light)) {
-      const auto why = why_.download<std::uint32_t>(positions.size());
+      const auto why = why_.download<std::uint32_t>(pixels);
       frame.pipWhy.assign(why.begin(), why.end());
     }
   }

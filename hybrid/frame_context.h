@@ -78,9 +78,13 @@ class FrameContext {
   // Renders the G-buffer in a submission of its own and narrows frameData().shadow to what it sees,
   // where settings().fitLightToView applies to this light (for methods that read its map).
   void fitLightToView(FrameStats& stats);
+  // The pixels [xy, zw) the light's range projects to (the whole image for lights without one):
+  // beyond it the light reaches nothing, so no pass of it need run there.
+  glm::uvec4 lightRect() const;
   // Light `light` of the frame's `lights` (ShadePass): the last one writes the image.
   void shade(Method& method, FrameStats& stats, std::uint32_t light = 0, std::uint32_t lights = 1);
-  Frame readBack(const Method& method, FrameStats stats);
+  // image: the shaded image too (a light before the frame's last has none of its own).
+  Frame readBack(const Method& method, FrameStats stats, bool image = true);
   // Renderer::sceneMoved: re-uploads the moving meshes and refits the built tracers.
   void sceneMoved();
   std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
@@ -148,6 +152,8 @@ class FrameContext {
   // (returns whether it did: else the compaction must).
   bool classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList);
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
+  // The pixels [xy, zw) an in-place trace covers (FrameData::traceRectMin/Max).
+  glm::uvec4 traceRect() const;
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
   // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
@@ -164,14 +170,16 @@ class FrameContext {
   raster::PipClassifyPass classify_;
   CompactPass compact_;
   raster::LightFitPass lightFit_;
-  struct Clearance {  // the light's distance to the nearest triangle, for its cube map's near plane
+  struct Clearance {  // a light's distance to the nearest triangle, for its cube map's near plane
     glm::vec3 at;
     std::uint64_t sceneVersion;
     float distance;
   };
-  std::optional<Clearance> clearance_;
+  std::vector<Clearance> clearances_;  // one per light position of the frame, while the scene stays
   std::uint32_t lightIndex_ = 0;
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
+  std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
+  bool coveredRead_ = false;
   std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
   struct LightPassesKey {

@@ -86,7 +86,7 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
     method->run(*frameContext_, stats);
     frameContext_->shade(*method, stats, std::uint32_t(k), std::uint32_t(reaching.size()));
     stats.totalMs = msSince(start);
-    frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats));
+    frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats), k + 1 == reaching.size());
   }
   if (lights.size() == 1) return std::move(frames.front());
   Frame& shaded = frames[reaching.back()];

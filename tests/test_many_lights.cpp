@@ -7,6 +7,7 @@
 #include "cli_fixture.h"
 #include "core/camera.h"
 #include "core/gpu_light.h"
+#include "core/image_io.h"
 #include "core/metrics.h"
 #include "core/view.h"
 #include "gltf_writer.h"
@@ -93,13 +94,14 @@ TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {
 
 // The street of 16 lamps, its middle seen from above: lamps whose range the view cannot reach are culled
 // (nothing runs for them), and culling is exact: the reference lit alone by such a lamp is 0 on
-// every covered pixel (its range rule), and srt matches it on every lamp the view reaches.
+// every covered pixel (its range rule), and srt and frt match it on every lamp the view reaches.
 TEST(ManyLights, LampsBeyondTheViewAreCulledExactly) {
   SceneRun run("builtin:street:16", smallSettings(96, 1024));
   run.camera =
       Camera{.eye = {22.0f, 10.0f, 1.0f}, .target = {22.0f, 0.0f, 0.0f}, .fovYDeg = 45.0f};  // the middle lamps
   const Frame ref = run.renderer->render("ref", run.camera, run.scene.lights);
   const Frame srt = run.renderer->render("srt", run.camera, run.scene.lights);
+  const Frame frt = run.renderer->render("frt", run.camera, run.scene.lights);
   ASSERT_EQ(ref.lights.size(), 16u);
   std::size_t culled = 0;
   for (std::size_t i = 0; i < ref.lights.size(); ++i) {
@@ -110,6 +112,10 @@ TEST(ManyLights, LampsBeyondTheViewAreCulledExactly) {
                     .wrongPixelFraction,
                 0.0)
           << "lamp " << i;
+      EXPECT_EQ(compareVisibility(frt.lights[i].visibility, ref.lights[i].visibility, ref.covered, kWrongThresholdHard)
+                    .wrongPixelFraction,
+                0.0)
+          << "frt, lamp " << i;
       continue;
     }
     EXPECT_FALSE(ref.stats.lights[i].notes.empty()) << "lamp " << i;
@@ -135,6 +141,25 @@ TEST(ManyLights, LampsBeyondTheViewAreCulledExactly) {
     }
   }
   EXPECT_GT(inRange, 1000u);
+  expectValidationSilent();
+}
+
+// Down the street, the far lamps' ranges cover a few pixels: frt's in-place trace covers only the
+// rectangle each lamp's range projects to, and every lamp's shadow still equals the reference's.
+TEST(ManyLights, FrtTracesOnlyTheRectangleALampReaches) {
+  SceneRun run("builtin:street:16", smallSettings(96, 1024));
+  const Frame ref = run.renderer->render("ref", run.camera, run.scene.lights);
+  const Frame frt = run.renderer->render("frt", run.camera, run.scene.lights);
+  const auto covered = std::uint64_t(std::count(ref.covered.begin(), ref.covered.end(), std::uint8_t(1)));
+  std::size_t narrowed = 0;
+  for (std::size_t i = 0; i < ref.lights.size(); ++i) {
+    EXPECT_EQ(compareVisibility(frt.lights[i].visibility, ref.lights[i].visibility, ref.covered, kWrongThresholdHard)
+                  .wrongPixelFraction,
+              0.0)
+        << "lamp " << i;
+    narrowed += frt.stats.lights[i].pipPixels.value_or(covered) < covered / 4;
+  }
+  EXPECT_GT(narrowed, 4u) << "far lamps' ranges cover under a quarter of the view";
   expectValidationSilent();
 }
 
@@ -233,6 +258,34 @@ TEST_F(ManyLightsCli, GltfLightsAllRenderAndAreJudgedEach) {
     }
     EXPECT_TRUE(m["image_error"]["rmse"].is_number()) << name;
   }
+}
+
+// A lights file gives each light its own size, colour and range; --save-view keeps them all and
+// --view restores them: the same frames bit for bit.
+TEST_F(ManyLightsCli, LightsFileAndViewKeepEveryLight) {
+  std::ofstream(dir_ / "lights.json") << R"([
+    {"light": "disk:6,12,4:0,0,0", "size": 1.5, "color": [1, 0.8, 0.6]},
+    {"light": "point:-3,2,1", "range": 6, "inverse_square": true, "intensity": 4}])";
+  const std::string common = " --scene builtin:courtyard --res 64x64 --method frt --spp 4";
+  const auto a = run("render" + common + " --lights " + (dir_ / "lights.json").string() + " --save-view " +
+                     (dir_ / "view.json").string() + " --out " + (dir_ / "a").string());
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  const auto view = nlohmann::json::parse(slurp(dir_ / "view.json"));
+  ASSERT_EQ(view["lights"].size(), 2u);
+  EXPECT_EQ(view["lights"][0]["size"].get<double>(), 1.5) << "the file's own size, not --light-size's 0";
+  EXPECT_EQ(view["lights"][1]["range"].get<double>(), 6.0);
+  const auto b =
+      run("render" + common + " --view " + (dir_ / "view.json").string() + " --out " + (dir_ / "b").string());
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  int w = 0, h = 0;
+  const auto va = readExrGray((dir_ / "a" / "frt.visibility.exr").string(), w, h);
+  EXPECT_EQ(va, readExrGray((dir_ / "b" / "frt.visibility.exr").string(), w, h));
+  EXPECT_EQ(slurp(dir_ / "a" / "frt.png"), slurp(dir_ / "b" / "frt.png"));
+  const auto soft = std::count_if(va.begin(), va.end(), [](float v) { return v > 0.0f && v < 1.0f; });
+  EXPECT_GT(soft, 0) << "the disk's own size gives a penumbra";
+  const auto bad = run("render" + common + " --lights " + (dir_ / "missing.json").string());
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.err.find("missing.json"), std::string::npos) << bad.err;
 }
 
 }  // namespace

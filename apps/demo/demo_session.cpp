@@ -129,7 +129,8 @@ std::vector<std::uint8_t> DemoSession::errorHeatmap() const {
 }
 
 View DemoSession::view() const {
-  return {lastKey_.camera, lastKey_.light, lightSizeFraction_, int(setup_.settings.width), int(setup_.settings.height)};
+  return {
+      lastKey_.camera, lastKey_.light, lightSizeFraction_, {}, int(setup_.settings.width), int(setup_.settings.height)};
 }
 
 }  // namespace penumbra::demo

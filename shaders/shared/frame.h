@@ -44,6 +44,10 @@ struct FrameData {
   uint traceCapacity;  // points the trace list holds
   uvec2 tracePoints;   // the trace list's device address (low, high): shaders/point_list.glsl
   uvec2 blockers;      // where the trace writes each traced pixel's mean blocker distance (float per pixel); 0: nowhere
+  // The pixels [traceRectMin, traceRectMax) an in-place trace covers: the rectangle a light's range
+  // projects to (outside it the light reaches nothing); traceRectMax (0, 0): the whole image.
+  uvec2 traceRectMin;
+  uvec2 traceRectMax;
 };
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).
