@@ -344,8 +344,12 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   // the cut-outs' alpha and records: the raster passes' copy and a tracer's (core/cutouts.h); the
   // camera pass's colour textures
   need.textures = 2 * cutoutDataBytes(s.scene) + raster::colorTextureBytes(s.scene);
-  if (s.lights.size() > 1)
+  if (s.lights.size() > 1) {
     need.perPixel += std::uint64_t(s.settings.width) * s.settings.height * 16;  // the lights' sum
+    // the lights' maps are kept by face count and resolution: a one-face map's beside a cube's
+    // (1/6 more), and coarser footprint resolutions (powers of two below: at most 1/3 more)
+    need.lightMaps = need.lightMaps * 14 / 9;
+  }
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {
     // "light" and light_size hold one light sized by a fraction; every other set goes in "lights".

@@ -3,8 +3,9 @@
 # ranges barely overlap, the same camera for every count), sm / srt / frt against the Embree
 # reference of every lamp, 512^2, --tracer bvh. Per row: the frame's time and its passes summed over
 # the lamps, the lamps the view reaches (the others are culled), rays, PIP, the worst lamp's wrong
-# pixels and pip_miss against the reference's same lamp, the shaded image's rmse, the shadow map's
-# memory, and the frame's cost over the one-lamp frame. Release build, warm-up 1, median of REPEAT.
+# pixels and pip_miss against the reference's same lamp, the shaded image's rmse, the maps' texels,
+# and the frame's cost over the same street lit by its first lamp alone. Release build, warm-up 1,
+# median of REPEAT.
 # Writes bench/results/lights.{csv,md} and lights.machine.txt.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -20,6 +21,13 @@ for n in $LAMPS; do
   echo "== builtin:street:$n"
   ./build/bin/penumbra compare --scene "builtin:street:$n" --methods sm,srt,frt --tracer bvh --res "$RES" --warmup 1 \
     --repeat "$REPEAT" --no-report --out "$runs/$n" | tail -n 5
+  # the same street lit by its first lamp alone (a lights file of it, from the scene's saved view)
+  ./build/bin/penumbra render --scene "builtin:street:$n" --method sm --res 16x16 --save-view "$runs/view$n.json" \
+    --out "$runs/view$n" > /dev/null
+  /usr/bin/python3 -c 'import json, sys; json.dump(json.load(open(sys.argv[1]))["lights"][:1], open(sys.argv[2], "w"))' \
+    "$runs/view$n.json" "$runs/one$n.json"
+  ./build/bin/penumbra compare --scene "builtin:street:$n" --lights "$runs/one$n.json" --methods sm,srt,frt --tracer bvh \
+    --res "$RES" --warmup 1 --repeat "$REPEAT" --no-report --out "$runs/one$n" | tail -n 4
 done
 
 echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(./build/bin/penumbra device 2>/dev/null | grep -m1 '"driver"' | cut -d'"' -f4)" |
@@ -27,48 +35,57 @@ echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed
 /usr/bin/python3 - "$runs" "$LAMPS" "$RES" <<'EOF'
 import csv, json, os, sys
 runs, counts, res = sys.argv[1], sys.argv[2].split(), sys.argv[3]
-rows = []
+rows, alone = [], {}
 for n in counts:
-    m = json.load(open(os.path.join(runs, n, "metrics.json")))
-    for s in [m["reference"]] + m["methods"]:
-        lights = s.get("lights") or [s]
-        reached = sum(1 for l in lights if not any(note.startswith("culled") for note in l["notes"]))
-        t = s["time_ms"]
-        def worst(key):
-            v = [l[key] for l in lights if l.get(key) is not None]
-            return max(v) if v else None
-        wrong = [l["error"]["wrong_pixel_fraction"] for l in lights if l.get("error")]
-        rows.append({
-            "lamps": int(n), "method": s["method"], "reached": reached, "total_ms": t["total"],
-            "shadow_map_ms": t.get("shadow_map", 0.0), "classify_ms": t.get("classify", 0.0) + t.get("thin_pass", 0.0),
-            "trace_ms": t.get("trace", 0.0), "gbuffer_ms": t.get("gbuffer", 0.0), "shade_ms": t.get("shade", 0.0),
-            "rays": s.get("rays_traced") or 0, "pip_fraction": s.get("pip_fraction"),
-            "worst_wrong": max(wrong) if wrong else None, "worst_pip_miss": worst("pip_miss_fraction"),
-            "image_rmse": (s.get("image_error") or {}).get("rmse"),
-            "shadow_map_bytes": (s.get("memory_bytes") or {}).get("shadow_map", 0)})
+    for run, lit in ((n, "all"), ("one" + n, "first")):
+        m = json.load(open(os.path.join(runs, run, "metrics.json")))
+        for s in [m["reference"]] + m["methods"]:
+            lights = s.get("lights") or [s]
+            t = s["time_ms"]
+            if lit == "first":
+                alone[(int(n), s["method"])] = t["total"]
+                continue
+            reached = sum(1 for l in lights if not any(note.startswith("culled") for note in l["notes"]))
+            def worst(key):
+                v = [l[key] for l in lights if l.get(key) is not None]
+                return max(v) if v else None
+            wrong = [l["error"]["wrong_pixel_fraction"] for l in lights if l.get("error")]
+            rows.append({
+                "lamps": int(n), "method": s["method"], "reached": reached, "total_ms": t["total"],
+                "shadow_map_ms": t.get("shadow_map", 0.0), "lookup_ms": t.get("lookup", 0.0),
+                "classify_ms": t.get("classify", 0.0) + t.get("thin_pass", 0.0), "trace_ms": t.get("trace", 0.0),
+                "gbuffer_ms": t.get("gbuffer", 0.0), "shade_ms": t.get("shade", 0.0),
+                "rays": s.get("rays_traced") or 0, "pip_fraction": s.get("pip_fraction"),
+                "worst_wrong": max(wrong) if wrong else None, "worst_pip_miss": worst("pip_miss_fraction"),
+                "image_rmse": (s.get("image_error") or {}).get("rmse"),
+                "map_texels": (s.get("counts") or {}).get("shadow_map_texels", 0)})
+for r in rows:
+    r["first_lamp_alone_ms"] = alone[(r["lamps"], r["method"])]
 out = "bench/results/lights.csv"
 with open(out, "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0]))
     w.writeheader()
     w.writerows(rows)
-one = {r["method"]: r["total_ms"] for r in rows if r["lamps"] == int(counts[0])}
 fmt = lambda v, p="{:.3f}": "–" if v is None else p.format(v)
 with open("bench/results/lights.md", "w") as f:
     f.write("# Many lights: builtin:street (bench/lights.sh)\n\n")
     f.write(f"{res}, `--tracer bvh`, median of the repeated frames; times in ms summed over the lamps the view reaches "
             "(the others are culled: nothing runs for them). Worst lamp: the largest wrong-pixel fraction and pip_miss "
-            "of any lamp against the reference's same lamp. × 1 lamp: the frame's time over the same method's "
-            f"{counts[0]}-lamp frame.\n\n")
-    f.write("| lamps | method | reached | total | shadow map | classify | trace | G-buffer | shade | rays | PIP % | "
-            "worst lamp wrong % | worst pip_miss % | image rmse | map MB | × 1 lamp |\n")
-    f.write("|" + "---|" * 16 + "\n")
+            "of any lamp against the reference's same lamp. Map Mtexels: every lamp's shadow map summed (each lamp's "
+            "resolution follows its range's footprint, `--light-map-res footprint`). First lamp alone: the same "
+            "method's frame of the same street lit by its first lamp only (a lights file of it); × alone: the frame's "
+            "time over it.\n\n")
+    f.write("| lamps | method | reached | total | shadow map | lookup | classify | trace | G-buffer | shade | rays | PIP % | "
+            "worst lamp wrong % | worst pip_miss % | image rmse | map Mtexels | first lamp alone | × alone |\n")
+    f.write("|" + "---|" * 18 + "\n")
     for r in rows:
         pip = None if r["pip_fraction"] is None else 100 * r["pip_fraction"]
         f.write(f"| {r['lamps']} | {r['method']} | {r['reached']} | {r['total_ms']:.1f} | {r['shadow_map_ms']:.1f} | "
-                f"{r['classify_ms']:.1f} | {r['trace_ms']:.1f} | {r['gbuffer_ms']:.1f} | {r['shade_ms']:.1f} | {r['rays']:,} | "
-                f"{fmt(pip, '{:.2f}')} | {fmt(None if r['worst_wrong'] is None else 100 * r['worst_wrong'])} | "
+                f"{r['lookup_ms']:.1f} | {r['classify_ms']:.1f} | {r['trace_ms']:.1f} | {r['gbuffer_ms']:.1f} | "
+                f"{r['shade_ms']:.1f} | {r['rays']:,} | {fmt(pip, '{:.2f}')} | "
+                f"{fmt(None if r['worst_wrong'] is None else 100 * r['worst_wrong'])} | "
                 f"{fmt(None if r['worst_pip_miss'] is None else 100 * r['worst_pip_miss'])} | {fmt(r['image_rmse'], '{:.4f}')} | "
-                f"{r['shadow_map_bytes'] / 1e6:.1f} | {r['total_ms'] / one[r['method']]:.2f} |\n")
+                f"{r['map_texels'] / 1e6:.1f} | {r['first_lamp_alone_ms']:.1f} | {r['total_ms'] / r['first_lamp_alone_ms']:.2f} |\n")
     f.write(f"\nMachine: {open('bench/results/lights.machine.txt').read().strip()}\n")
 print("wrote", out, "and bench/results/lights.md")
 EOF

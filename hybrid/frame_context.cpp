@@ -179,23 +179,14 @@ void FrameContext::sceneMoved() {
 }
 
 glm::uvec4 FrameContext::lightRect() const {
-  if (frameData_.light.range <= 0.0f || frameData_.light.type == LIGHT_DIRECTIONAL) {
-    return {0u, 0u, settings_.width, settings_.height};
-  }
-  return screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
-                    settings_.height);
+  if (frameData_.lightRectMax == glm::uvec2(0u)) return {0u, 0u, settings_.width, settings_.height};
+  return {frameData_.lightRectMin, frameData_.lightRectMax};
 }
 
 TraceJob FrameContext::traceJob(const ShadowTracer& tracer, TraceList list) {
   const bool inPlace = list == TraceList::EveryCovered && tracer.tracesInPlace() && !settings_.simulateBandwidth;
-  // An in-place trace covers the light's rectangle only, where that is less than the image.
-  glm::uvec4 rect(0u);
-  if (inPlace && lightRect() != glm::uvec4(0u, 0u, settings_.width, settings_.height)) rect = lightRect();
-  const glm::uvec4 was(frameData_.traceRectMin, frameData_.traceRectMax);
-  if (frameData_.traceInPlace != (inPlace ? 1u : 0u) || was != rect) {
+  if (frameData_.traceInPlace != (inPlace ? 1u : 0u)) {
     frameData_.traceInPlace = inPlace ? 1u : 0u;
-    frameData_.traceRectMin = glm::uvec2(rect.x, rect.y);
-    frameData_.traceRectMax = glm::uvec2(rect.z, rect.w);
     frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));  // no submission is running
   }
   return {compact_.points(), compact_.count(), frameBuffer_, visibility_, gbuffer_.position().view(), gbuffer_.normal().view()};
@@ -230,9 +221,9 @@ void FrameContext::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameS
 }
 
 void FrameContext::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
-  // Every tile's pixels of the trace rectangle (trace_points.glsl), in rows of as many workgroups as
-  // the device dispatches (tracePointIndex).
-  const glm::uvec4 rect = traceRect();
+  // Every tile's pixels of the light's rectangle (trace_points.glsl), in rows of as many workgroups
+  // as the device dispatches (tracePointIndex).
+  const glm::uvec4 rect = lightRect();
   const std::uint32_t items = shared::compactItems(rect.z - rect.x, rect.w - rect.y);
   const std::uint32_t groups = (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
   const std::uint32_t row =
@@ -259,42 +250,44 @@ void FrameContext::recordTraceList(const vk::raii::CommandBuffer& cmd, TraceList
 bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList) {
   const bool thin = settings_.pip.thinPass;
   if (thin) {
-    if (!thin_ || thin_->faceCount() != frameData_.shadow.faceCount) {
-      thin_ = std::make_unique<raster::ThinTrianglePass>(context_, settings_.shadowMap, frameData_.shadow.faceCount,
-                                                         settings_.thin);
+    if (!maps().thin) {
+      maps().thin = std::make_unique<raster::ThinTrianglePass>(context_, mapSettings_, frameData_.shadow.faceCount,
+                                                               settings_.thin);
     }
-    stats.memoryBytes["thin_mask"] = thin_->bytes();
+    stats.memoryBytes["thin_mask"] = maps().thin->bytes();
     timer_.begin(cmd, "thin_pass");
-    thin_->record(cmd, geometry_, frameData_.shadow);
+    maps().thin->record(cmd, geometry_, frameData_.shadow);
     timer_.end(cmd);
-    stats.thinPass = FrameStats::ThinPass{
-        .faces = frameData_.shadow.faceCount, .triangles = scene_.triangleCount(), .reused = thin_->selectionReused()};
+    stats.thinPass = FrameStats::ThinPass{.faces = frameData_.shadow.faceCount,
+                                          .triangles = scene_.triangleCount(),
+                                          .reused = maps().thin->selectionReused()};
   }
-  const raster::ThinTrianglePass* thinPass = thin ? thin_.get() : nullptr;
+  LightMaps& m = maps();
+  const raster::ThinTrianglePass* thinPass = thin ? m.thin.get() : nullptr;
   const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
   auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
   push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
-  if (!pyramid_ || pyramid_->faceCount() != frameData_.shadow.faceCount) {
-    pyramid_ = std::make_unique<raster::DepthPyramidPass>(context_, settings_.shadowMap.resolution, frameData_.shadow.faceCount);
-    pyramidKey_.reset();
+  if (!m.pyramid) {
+    m.pyramid =
+        std::make_unique<raster::DepthPyramidPass>(context_, mapSettings_.resolution, frameData_.shadow.faceCount);
   }
   if (shared::isAreaLight(frameData_.light)) {  // the penumbra mask reads the pyramid; hard shadows do not
-    stats.memoryBytes["depth_pyramid"] = pyramid_->tiles().size();
+    stats.memoryBytes["depth_pyramid"] = m.pyramid->tiles().size();
     // Its inputs, the map and the thin mask, follow from the key (the thin pass keeps its own).
     const LightPassesKey key = lightPassesKey();
-    if (settings_.reuseLightPasses && pyramidKey_ == key) {
+    if (settings_.reuseLightPasses && m.pyramidKey == key) {
       stats.reusedPasses.push_back("depth_pyramid");
     } else {
       timer_.begin(cmd, "depth_pyramid");
-      pyramid_->record(cmd, *shadowMap_, thinPass, frameData_.shadow, push.deltaThreshold);
+      m.pyramid->record(cmd, *m.shadowMap, thinPass, frameData_.shadow, push.deltaThreshold);
       timer_.end(cmd);
-      pyramidKey_ = key;
+      m.pyramidKey = key;
     }
   }
   const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_};
   timer_.begin(cmd, "classify");
   if (push.appendList) recordTraceCount(cmd, {0, 0, 1, 1});  // an empty list: workgroups add to count and groupsX
-  classify_.record(cmd, gbuffer_, *shadowMap_, thinPass, *pyramid_, frameBuffer_, out, push);
+  classify_.record(cmd, gbuffer_, *m.shadowMap, thinPass, *m.pyramid, frameBuffer_, out, push);
   timer_.end(cmd);
   if (cornerMaps) {
     if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);
@@ -312,15 +305,10 @@ void FrameContext::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32
   timer_.end(cmd);
 }
 
-glm::uvec4 FrameContext::traceRect() const {
-  if (frameData_.traceRectMax == glm::uvec2(0u)) return {0u, 0u, settings_.width, settings_.height};
-  return {frameData_.traceRectMin, frameData_.traceRectMax};
-}
-
 void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
-  // 1 where the trace leaves a pixel; 0 when it covers the light's rectangle only: beyond it the
-  // light reaches no pixel.
-  const bool wholeImage = frameData_.traceRectMax == glm::uvec2(0u);
+  // 1 where the trace leaves a pixel; 0 where the light's rectangle is less than the image: beyond
+  // it the light reaches no pixel.
+  const bool wholeImage = frameData_.lightRectMax == glm::uvec2(0u);
   cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, wholeImage ? 0x3f800000u : 0u);  // 1.0f or 0.0f
   cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);               // rays go all the way to the light
   const vk::MemoryBarrier2 barrier{.srcStageMask = vk::PipelineStageFlagBits2::eClear,
@@ -339,7 +327,9 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
   frameData_.light.sampleFrame = frame;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
-  frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap);
+  mapSettings_ = settings_.shadowMap;
+  mapSettings_.resolution = mapResolution();
+  frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, mapSettings_);
   if (frameData_.shadow.kind == SHADOW_CUBE) {  // its near plane out to the nearest geometry (depth precision)
     constexpr std::size_t kMaxClearances = 1024;
     const glm::vec3 at(frameData_.light.position);
@@ -350,14 +340,22 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
       known =
           clearances_.insert(clearances_.end(), Clearance{at, sceneVersion_, distanceToNearestTriangle(scene_, at)});
     }
-    frameData_.shadow =
-        raster::makeShadowMapInfo(frameData_.light, bounds_, settings_.shadowMap, false, known->distance);
+    frameData_.shadow = raster::makeShadowMapInfo(frameData_.light, bounds_, mapSettings_, false, known->distance);
   }
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
   frameData_.height = settings_.height;
   frameData_.spp = shared::lightSampleCount(frameData_.light, method.samplesPerPixel(settings_));
   frameData_.shadowFilter = method.shadowFilter(settings_);
+  if (frameData_.light.range > 0.0f && frameData_.light.type != LIGHT_DIRECTIONAL) {
+    glm::uvec4 rect = screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
+                                 settings_.height);
+    if (rect.z <= rect.x || rect.w <= rect.y) rect = glm::uvec4(1u);  // empty (lightRectMax (0, 0) is the image)
+    if (rect != glm::uvec4(0u, 0u, settings_.width, settings_.height)) {
+      frameData_.lightRectMin = glm::uvec2(rect.x, rect.y);
+      frameData_.lightRectMax = glm::uvec2(rect.z, rect.w);
+    }
+  }
   compact_.describeList(frameData_);
   if (settings_.denoise.mode != DenoiseMode::Off && shared::isAreaLight(frameData_.light))
     frameData_.blockers = gpu::addressHalves(blockers_);
@@ -366,6 +364,28 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   timer_.reset();
   gbufferRecorded_ = sameView;
   coveredRead_ = coveredRead_ && sameView;
+}
+
+// A point or spot light whose range the camera is outside of needs fine texels only where the range
+// comes nearest the camera, and there at most at the range's distance from the light: its map takes
+// the least power of two from 128 whose texel there is at most half a pixel (at one texel a pixel,
+// sm got 52 pixels wrong over the street's 16 lamps at 128^2, against 7 at full resolution), up to
+// settings().shadowMap's resolution (which every other light gets).
+std::uint32_t FrameContext::mapResolution() const {
+  const std::uint32_t most = settings_.shadowMap.resolution;
+  const shared::GpuLight& light = frameData_.light;
+  if (!settings_.footprintMaps || light.range <= 0.0f || (light.type != LIGHT_POINT && light.type != LIGHT_SPOT)) {
+    return most;
+  }
+  const float nearest = glm::distance(cameraPosition_, glm::vec3(light.position)) - light.range;
+  if (nearest <= view_.nearPlane) return most;
+  // texelWorld: a texel's width at unit distance from the light, at resolution `most`
+  const float texelAtRange = raster::makeShadowMapInfo(light, bounds_, settings_.shadowMap).texelWorld * light.range;
+  const float pixelAtNearest = 2.0f * nearest / (std::abs(view_.proj[1][1]) * float(settings_.height));  // y flipped
+  const float need = 2.0f * float(most) * texelAtRange / pixelAtNearest;
+  std::uint32_t resolution = 128;
+  while (resolution < most && float(resolution) < need) resolution *= 2;
+  return std::min(resolution, most);
 }
 
 bool FrameContext::lightReachesView(const Camera& camera, const Light& light) const {
@@ -408,24 +428,27 @@ FrameContext::LightPassesKey FrameContext::lightPassesKey() const { return {fram
 
 void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
   // Made on first use and again only when the light needs a different number of faces.
-  if (!shadowMap_ || shadowMap_->faceCount() != frameData_.shadow.faceCount) {
-    shadowMap_ = std::make_unique<raster::ShadowMapPass>(context_, settings_.shadowMap, frameData_.shadow.faceCount);
-    shadowMapKey_.reset();
-  }
-  stats.memoryBytes["shadow_map"] = shadowMap_->depth().bytes();
+  LightMaps& m = maps();
+  if (!m.shadowMap)
+    m.shadowMap = std::make_unique<raster::ShadowMapPass>(context_, mapSettings_, frameData_.shadow.faceCount);
+  std::uint64_t bytes = 0;  // every map the frame's lights keep
+  for (const auto& [key, maps] : lightMaps_) bytes += maps.shadowMap ? maps.shadowMap->depth().bytes() : 0;
+  stats.memoryBytes["shadow_map"] = bytes;
+  stats.counts["shadow_map_texels"] =
+      std::uint64_t(mapSettings_.resolution) * mapSettings_.resolution * frameData_.shadow.faceCount;
   const LightPassesKey key = lightPassesKey();
-  if (settings_.reuseLightPasses && shadowMapKey_ == key) {
+  if (settings_.reuseLightPasses && m.shadowMapKey == key) {
     stats.reusedPasses.push_back("shadow_map");
     return;
   }
   timer_.begin(cmd, "shadow_map");
-  shadowMap_->record(cmd, geometry_, frameData_.shadow);
+  m.shadowMap->record(cmd, geometry_, frameData_.shadow);
   timer_.end(cmd);
-  shadowMapKey_ = key;
+  m.shadowMapKey = key;
 }
 
 void FrameContext::shade(Method& method, FrameStats& stats, std::uint32_t light, std::uint32_t lights) {
-  if (stats.thinPass) stats.thinPass->thin = thin_->thinTriangles();
+  if (stats.thinPass) stats.thinPass->thin = maps().thin->thinTriangles();
   if (lights > 1 && !direct_) {
     direct_ = std::make_unique<gpu::Buffer>(
         context_, pixels(settings_) * sizeof(glm::vec4),
@@ -477,8 +500,8 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats, bool image)
   }
   if (image) frame.rgba = color_.download<std::uint8_t>(pixels * 4);
   const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
-  if (frameData_.traceInPlace) {  // every covered pixel of the trace rectangle, read from the G-buffer
-    const glm::uvec4 rect = traceRect();
+  if (frameData_.traceInPlace) {  // every covered pixel of the light's rectangle, read from the G-buffer
+    const glm::uvec4 rect = lightRect();
     std::uint64_t traced = 0;
     for (std::uint32_t y = rect.y; y < rect.w; ++y) {
       traced += std::count(frame.covered.begin() + y * frame.width + rect.x,

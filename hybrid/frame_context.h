@@ -79,7 +79,7 @@ class FrameContext {
   // where settings().fitLightToView applies to this light (for methods that read its map).
   void fitLightToView(FrameStats& stats);
   // The pixels [xy, zw) the light's range projects to (the whole image for lights without one):
-  // beyond it the light reaches nothing, so no pass of it need run there.
+  // beyond it the light reaches nothing, so no pass of it need run there (FrameData::lightRectMin/Max).
   glm::uvec4 lightRect() const;
   // Light `light` of the frame's `lights` (ShadePass): the last one writes the image.
   void shade(Method& method, FrameStats& stats, std::uint32_t light = 0, std::uint32_t lights = 1);
@@ -117,7 +117,7 @@ class FrameContext {
   gpu::GpuTimer& timer() { return timer_; }
   const raster::SceneGeometry& geometry() const { return geometry_; }
   const raster::GBufferPass& gbuffer() const { return gbuffer_; }
-  const raster::ShadowMapPass& shadowMap() const { return *shadowMap_; }
+  const raster::ShadowMapPass& shadowMap() const { return *lightMaps_.at(mapsKey()).shadowMap; }
   const raster::ShadowLookupPass& shadowLookup() const { return lookup_; }
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
@@ -152,8 +152,6 @@ class FrameContext {
   // (returns whether it did: else the compaction must).
   bool classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList);
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
-  // The pixels [xy, zw) an in-place trace covers (FrameData::traceRectMin/Max).
-  glm::uvec4 traceRect() const;
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
   // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
@@ -180,7 +178,6 @@ class FrameContext {
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;
-  std::unique_ptr<raster::ShadowMapPass> shadowMap_;
   // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
   struct LightPassesKey {
     shared::ShadowMapInfo shadow;
@@ -188,9 +185,23 @@ class FrameContext {
     bool operator==(const LightPassesKey& other) const;
   };
   LightPassesKey lightPassesKey() const;
-  std::optional<LightPassesKey> shadowMapKey_, pyramidKey_;
-  std::unique_ptr<raster::ThinTrianglePass> thin_;
-  std::unique_ptr<raster::DepthPyramidPass> pyramid_;
+  // The light's passes at one map resolution and face count (each made on first use), kept for
+  // every light of a frame that needs the same.
+  struct LightMaps {
+    std::unique_ptr<raster::ShadowMapPass> shadowMap;
+    std::unique_ptr<raster::ThinTrianglePass> thin;
+    std::unique_ptr<raster::DepthPyramidPass> pyramid;
+    std::optional<LightPassesKey> shadowMapKey, pyramidKey;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, LightMaps> lightMaps_;  // by (resolution, faces)
+  std::pair<std::uint32_t, std::uint32_t> mapsKey() const {
+    return {frameData_.shadow.resolution, frameData_.shadow.faceCount};
+  }
+  LightMaps& maps() { return lightMaps_[mapsKey()]; }  // this light's
+  // The resolution of this light's map: settings().shadowMap's, or less by the footprint rule
+  // (RenderSettings::footprintMaps).
+  std::uint32_t mapResolution() const;
+  raster::ShadowMapSettings mapSettings_;               // settings().shadowMap at this light's resolution
   std::unique_ptr<raster::CornerMapsPass> cornerMaps_;  // --penumbra-maps 5
   std::map<std::string, std::unique_ptr<ShadowTracer>> tracers_;  // by name (hybrid/registry.h), built on first use
   std::unique_ptr<IndirectPass> indirectPass_;

@@ -73,7 +73,7 @@ class IndirectMethod final : public Method {
     r.recordGBuffer(cmd);
     r.recordShadowMap(cmd, stats);
     r.timer().begin(cmd, "lookup");
-    r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility());
+    r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility(), r.lightRect());
     r.timer().end(cmd);
   }
 

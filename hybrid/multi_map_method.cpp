@@ -85,7 +85,7 @@ class MultiMapMethod final : public Method {
         map.record(cmd, r.geometry(), infos[s]);
         if (timeEach) r.timer().end(cmd);
         if (timeEach) r.timer().begin(cmd, "lookup");
-        r.shadowLookup().record(cmd, r.gbuffer(), map, frames_[s], r.visibility(), weight);
+        r.shadowLookup().record(cmd, r.gbuffer(), map, frames_[s], r.visibility(), r.lightRect(), weight);
         visibilityBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
         if (timeEach) r.timer().end(cmd);
       }

@@ -16,6 +16,11 @@ const Options<RenderSettings>& renderOptions() {
              "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
              "still light's map (on), or render them every frame (off)",
              {{"on", true}, {"off", false}});
+    o.choice("--light-map-res", "light_map_res", &S::footprintMaps,
+             "Point and spot lights with a range: a map as fine as the range's nearest approach to the camera needs "
+             "(footprint: a texel at most half a pixel there, 128 to --shadow-map-res texels), or --shadow-map-res "
+             "for every light (fixed)",
+             {{"footprint", true}, {"fixed", false}});
     o.add(&S::pip, raster::pipOptions());
     o.add(&S::thin, raster::thinOptions());
     o.group("Ray tracing");

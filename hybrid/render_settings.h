@@ -39,6 +39,9 @@ struct RenderSettings {
   // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
   // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.
   bool reuseLightPasses = false;
+  // --light-map-res: point and spot lights with a range get the map resolution their range's
+  // footprint on screen needs (FrameContext::mapResolution), at most shadowMap.resolution.
+  bool footprintMaps = true;
   // srt takes, per frame, whichever of its paths (classify, or trace every covered pixel) its own
   // measurements say is cheaper (--srt-choice auto; hybrid/traced_method.cpp). Off: always classify.
   bool srtChoice = false;

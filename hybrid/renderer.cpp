@@ -45,6 +45,7 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
     if (l.triangleTests) s.triangleTests = s.triangleTests.value_or(0) + *l.triangleTests;
     if (l.pipPixels) s.pipPixels = s.pipPixels.value_or(0) + *l.pipPixels;
     for (const auto& [what, bytes] : l.memoryBytes) s.memoryBytes[what] = std::max(s.memoryBytes[what], bytes);
+    for (const auto& [what, count] : l.counts) s.counts[what] += count;
     for (const std::string& note : l.notes) {
       if (std::find(s.notes.begin(), s.notes.end(), note) == s.notes.end()) s.notes.push_back(note);
     }

@@ -1,5 +1,7 @@
 #include "raster/shadow_lookup_pass.h"
 
+#include <algorithm>
+
 #include "shadow_lookup_comp.h"
 #include "shared/raster.h"
 
@@ -24,8 +26,15 @@ struct LookupPush {
 ShadowLookupPass::ShadowLookupPass(const gpu::Context& context)
     : pipeline_(context, shadow_lookup_comp, kBindings, sizeof(LookupPush), "shadow lookup pipeline") {}
 
-void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-                              const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight) const {
+void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer,
+                              const ShadowMapPass& shadowMap, const gpu::Buffer& frame, const gpu::Buffer& visibility,
+                              glm::uvec4 lightRect, float accumulateWeight) const {
+  if (lightRect != glm::uvec4(0u, 0u, gbuffer.width(), gbuffer.height()) && accumulateWeight == 0.0f) {
+    cmd.fillBuffer(visibility.handle(), 0, VK_WHOLE_SIZE, 0u);  // 0.0f beyond the rectangle
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
+                       vk::PipelineStageFlagBits2::eComputeShader,
+                       vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite);
+  }
   const gpu::ComputePipeline& pipeline = pipeline_(shadowMap.hasTexelCopy());
   pipeline.bind(cmd, gpu::Descriptors{}
                          .storageImage(LOOKUP_BINDING_POSITION, gbuffer.position().view())
@@ -36,8 +45,12 @@ void ShadowLookupPass::record(const vk::raii::CommandBuffer& cmd, const GBufferP
                          .buffer(LOOKUP_BINDING_SHADOW_TEXELS, shadowMap.texels())
                          .storageImage(LOOKUP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view()));
   pipeline.pushConstants(cmd, LookupPush{accumulateWeight});
-  cmd.dispatch((gbuffer.width() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
-               (gbuffer.height() + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
+  const glm::uvec2 size(lightRect.z - std::min(lightRect.x, lightRect.z),
+                        lightRect.w - std::min(lightRect.y, lightRect.w));
+  if (size.x > 0u && size.y > 0u) {
+    cmd.dispatch((size.x + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE,
+                 (size.y + LOOKUP_GROUP_SIZE - 1) / LOOKUP_GROUP_SIZE, 1);
+  }
   gpu::computeToComputeAndHost(cmd);
 }
 

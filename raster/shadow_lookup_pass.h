@@ -12,9 +12,12 @@ class ShadowLookupPass {
  public:
   explicit ShadowLookupPass(const gpu::Context& context);
   // frame holds FrameData (shadowFilter selects the kernel); visibility gets width*height floats.
-  // accumulateWeight 0 overwrites; > 0 adds accumulateWeight * visibility to what is there.
+  // The dispatch covers lightRect, FrameData's light rectangle as pixels [xy, zw); beyond it the
+  // light reaches nothing: 0. accumulateWeight 0 overwrites; > 0 adds accumulateWeight * visibility
+  // to what is there.
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-              const gpu::Buffer& frame, const gpu::Buffer& visibility, float accumulateWeight = 0.0f) const;
+              const gpu::Buffer& frame, const gpu::Buffer& visibility, glm::uvec4 lightRect,
+              float accumulateWeight = 0.0f) const;
 
  private:
   gpu::SpecializedComputePipeline pipeline_;  // on texelReads()

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -79,7 +80,10 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   const glm::vec3 pos = glm::vec3(light.position);
   info.lightPosition = glm::vec4(pos, 1.0f);
   const float distance = glm::length(centre - pos);
-  const float farPlane = distance + radius;
+  // Beyond its range a light reaches nothing and nothing there can shadow what it reaches (both ends
+  // of such a shadow ray lie within the range's sphere): its maps end there.
+  const float reach = light.range > 0.0f ? 1.001f * light.range : std::numeric_limits<float>::max();
+  const float farPlane = std::min(distance + radius, reach);
   // The half-angle under which the bounding sphere is seen; a spot never needs more than its cone.
   float halfFov = distance > radius ? std::asin(radius / distance) : kMaxSingleFaceFov;
   glm::vec3 forward = distance > 0.0f ? (centre - pos) / distance : glm::vec3(0, -1, 0);
@@ -92,6 +96,8 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
   }
   if (2.0f * halfFov < kMaxSingleFaceFov && !forceCube) {
     info.nearPlane = std::max(distance - radius, farPlane * 1e-4f);
+    if (info.nearPlane >= farPlane)
+      info.nearPlane = 0.5f * farPlane;  // the range ends before the scene: it reaches nothing
     info.farPlane = farPlane;
     info.kind = SHADOW_PERSPECTIVE;
     info.viewProj[0] = perspectiveVk(2.0f * halfFov, info.nearPlane, info.farPlane) * glm::lookAt(pos, pos + forward, upFor(forward));
@@ -101,7 +107,7 @@ shared::ShadowMapInfo makeShadowMapInfo(const shared::GpuLight& light, const Bou
 
   // Cube: faces +X,-X,+Y,-Y,+Z,-Z in the order shadowFace() returns them.
   const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const float farCube = distance + radius;
+  const float farCube = std::min(distance + radius, reach);
   // Depth precision: a stored depth's float step grows as w^2 / near, so a near plane at 1e-4 of the
   // far one made it about a texel at the room's walls (4 steps of it, the layer test's tolerance,
   // hid a wall 0.86 texels over a floor point). Out to half the clearance, it is ~100x finer.

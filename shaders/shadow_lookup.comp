@@ -92,8 +92,10 @@ float pcss(Receiver r, uint face, mat2 rot) {
 }
 
 void main() {
-  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+  // the dispatch covers the light's rectangle (the host leaves 0 beyond it)
+  ivec2 pix = ivec2(gl_GlobalInvocationID.xy + frame.lightRectMin);
   if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
+  if (!inLightRect(frame.lightRectMin, frame.lightRectMax, uint(pix.x), uint(pix.y))) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
   vec4 position = imageLoad(gPosition, pix);
   if (position.w == 0.0) { store(index, 1.0); return; }

@@ -1,7 +1,7 @@
 // The shading points of a shadow-ray kernel (after `frame` and `traceCount` are declared; the
 // kernel enables GL_EXT_buffer_reference and _uvec2 for point_list.glsl):
 // the compacted list, or - when the frame traces in place (frt on a GPU tracer) - every covered
-// pixel of FrameData's trace rectangle read from the G-buffer, enumerated in the compaction's tile
+// pixel of FrameData's light rectangle read from the G-buffer, enumerated in the compaction's tile
 // order so that a warp still traces neighbouring pixels. The dispatch covers traceCount.groupsX
 // groups either way.
 #include "shared/compact.h"
@@ -23,7 +23,7 @@ bool tracePoint(uint index, out ShadingPoint point) {
     point = pointList[index];
     return true;
   }
-  uvec2 lo = frame.traceRectMin, hi = frame.traceRectMax;
+  uvec2 lo = frame.lightRectMin, hi = frame.lightRectMax;
   if (hi == uvec2(0u)) hi = uvec2(frame.width, frame.height);
   uvec2 pix = lo + compactPixel(index, compactTilesX(hi.x - lo.x));
   if (pix.x >= hi.x || pix.y >= hi.y) return false;

@@ -163,6 +163,37 @@ TEST(ManyLights, FrtTracesOnlyTheRectangleALampReaches) {
   expectValidationSilent();
 }
 
+// A lamp's map is as fine as its range's nearest approach to the camera needs (--light-map-res
+// footprint): down the street the far lamps' maps are far smaller, sm stays about as right as with
+// every map at full resolution, and srt still equals the reference on every lamp.
+TEST(ManyLights, FootprintMapsCostLessAndKeepTheAnswer) {
+  RenderSettings fixed = smallSettings(128, 1024);
+  fixed.footprintMaps = false;
+  SceneRun run("builtin:street:16", smallSettings(128, 1024));
+  SceneRun full("builtin:street:16", fixed);
+  const Frame ref = run.renderer->render("ref", run.camera, run.scene.lights);
+  const Frame sm = run.renderer->render("sm", run.camera, run.scene.lights);
+  const Frame smFull = full.renderer->render("sm", run.camera, run.scene.lights);
+  const Frame srt = run.renderer->render("srt", run.camera, run.scene.lights);
+  const auto wrong = [&](const Frame& f, std::size_t i) {
+    const ErrorMetrics e =
+        compareVisibility(f.lights[i].visibility, ref.lights[i].visibility, ref.covered, kWrongThresholdHard);
+    return std::uint64_t(std::llround(e.wrongPixelFraction * double(e.pixels)));
+  };
+  std::uint64_t smWrong = 0, smFullWrong = 0;
+  for (std::size_t i = 0; i < ref.lights.size(); ++i) {
+    EXPECT_EQ(wrong(srt, i), 0u) << "lamp " << i;
+    smWrong += wrong(sm, i);
+    smFullWrong += wrong(smFull, i);
+  }
+  EXPECT_LE(smWrong, 2 * smFullWrong + 16) << "sm's wrong pixels over the lamps, at full resolution " << smFullWrong;
+  const std::uint64_t texels = sm.stats.counts.at("shadow_map_texels"),
+                      fullTexels = smFull.stats.counts.at("shadow_map_texels");
+  EXPECT_EQ(fullTexels, 16u * 6u * 1024u * 1024u);
+  EXPECT_LT(texels * 4, fullTexels) << "the far lamps' maps are coarser";
+  expectValidationSilent();
+}
+
 TEST(ManyLights, FalloffFollowsKhrLightsPunctual) {
   Bounds bounds;
   bounds.extend(glm::vec3(-1.0f));

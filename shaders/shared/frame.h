@@ -44,11 +44,17 @@ struct FrameData {
   uint traceCapacity;  // points the trace list holds
   uvec2 tracePoints;   // the trace list's device address (low, high): shaders/point_list.glsl
   uvec2 blockers;      // where the trace writes each traced pixel's mean blocker distance (float per pixel); 0: nowhere
-  // The pixels [traceRectMin, traceRectMax) an in-place trace covers: the rectangle a light's range
-  // projects to (outside it the light reaches nothing); traceRectMax (0, 0): the whole image.
-  uvec2 traceRectMin;
-  uvec2 traceRectMax;
+  // The pixels [lightRectMin, lightRectMax) the light's range projects to: beyond it the light
+  // reaches no pixel, so the per-pixel passes (lookup, classification, in-place trace) answer 0
+  // there without reading the G-buffer. lightRectMax (0, 0): the whole image.
+  uvec2 lightRectMin;
+  uvec2 lightRectMax;
 };
+
+PN_FN bool inLightRect(uvec2 lo, uvec2 hi, uint x, uint y) {
+  if (hi.x == 0u && hi.y == 0u) return true;
+  return x >= lo.x && y >= lo.y && x < hi.x && y < hi.y;
+}
 
 // The cube face a world point falls in, seen from the light (major axis of p - light).
 // Helpers take single fields: copying the whole ShadowMapInfo per invocation is slow on lavapipe.
