@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "core/units.h"
 #include "hybrid/method.h"
@@ -34,6 +35,7 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
   s.samplesPerPixel = first.samplesPerPixel;
   s.setupMs = first.setupMs;
   std::uint64_t coveredLights = 0;
+  std::map<std::string, std::size_t> noteLights;  // how many lights gave each note
   for (Frame& light : lights) {
     light.covered.clear();
     light.rgba.clear();
@@ -46,13 +48,27 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
     if (l.pipPixels) s.pipPixels = s.pipPixels.value_or(0) + *l.pipPixels;
     for (const auto& [what, bytes] : l.memoryBytes) s.memoryBytes[what] = std::max(s.memoryBytes[what], bytes);
     for (const auto& [what, count] : l.counts) s.counts[what] += count;
-    for (const std::string& note : l.notes) {
-      if (std::find(s.notes.begin(), s.notes.end(), note) == s.notes.end()) s.notes.push_back(note);
-    }
+    for (const std::string& note : l.notes) ++noteLights[note];
     coveredLights += std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
     s.lights.push_back(l);
   }
   if (s.pipPixels) s.pipFraction = coveredLights ? double(*s.pipPixels) / double(coveredLights) : 0.0;
+  // The frame's notes are those every light gave; a light's own (culled, srt's path and timings)
+  // stay in its stats, which a note counts.
+  std::size_t own = 0;
+  for (const FrameStats& l : s.lights) {
+    bool ownNote = false;
+    for (const std::string& note : l.notes) {
+      const bool everyLight = noteLights[note] == s.lights.size();
+      ownNote = ownNote || !everyLight;
+      if (everyLight && std::find(s.notes.begin(), s.notes.end(), note) == s.notes.end()) s.notes.push_back(note);
+    }
+    own += ownNote;
+  }
+  if (own) {
+    s.notes.push_back(std::to_string(own) + " of " + std::to_string(s.lights.size()) +
+                      " lights have notes of their own (each light's stats: lights[i].notes)");
+  }
   frame.lights = std::move(lights);
   return frame;
 }
