@@ -25,9 +25,10 @@ void main() {
   ivec2 pix = ivec2(push.origin + gl_GlobalInvocationID.xy);
   if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
+  bool last = push.light + 1u == push.lights;
+  if (!last && visibility[index] == 0.0) return;  // adds nothing to the sum (shadowed, beyond its range)
   vec4 position = imageLoad(gPosition, pix);
   vec3 rgb;
-  bool last = push.light + 1u == push.lights;
   if (position.w == 0.0) {
     if (!last) return;
     rgb = mix(vec3(0.60, 0.66, 0.74), vec3(0.33, 0.42, 0.56), float(pix.y) / float(frame.height));
