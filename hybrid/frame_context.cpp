@@ -427,7 +427,7 @@ bool FrameContext::LightPassesKey::operator==(const LightPassesKey& other) const
 FrameContext::LightPassesKey FrameContext::lightPassesKey() const { return {frameData_.shadow, geometry_.version()}; }
 
 void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
-  // Made on first use and again only when the light needs a different number of faces.
+  // Made on first use for each resolution and face count the frame's lights need.
   LightMaps& m = maps();
   if (!m.shadowMap)
     m.shadowMap = std::make_unique<raster::ShadowMapPass>(context_, mapSettings_, frameData_.shadow.faceCount);

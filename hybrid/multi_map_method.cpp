@@ -60,10 +60,13 @@ class MultiMapMethod final : public Method {
       data.shadowFilter = FILTER_NONE;
       frames_[s].upload(std::span<const shared::FrameData>(&data, 1));
       infos.push_back(data.shadow);
-      if (!maps_.contains(data.shadow.faceCount)) {
-        // Samples of one light can straddle the scene's bounding sphere: perspective and cube maps.
-        maps_[data.shadow.faceCount] =
-            std::make_unique<raster::ShadowMapPass>(r.context(), r.settings().shadowMap, data.shadow.faceCount);
+      const std::pair key(data.shadow.faceCount, data.shadow.resolution);
+      if (!maps_.contains(key)) {
+        // Samples of one light can straddle the scene's bounding sphere: perspective and cube maps
+        // (and a point-like light's centre map has the resolution its footprint gives it).
+        raster::ShadowMapSettings settings = r.settings().shadowMap;
+        settings.resolution = data.shadow.resolution;
+        maps_[key] = std::make_unique<raster::ShadowMapPass>(r.context(), settings, data.shadow.faceCount);
       }
     }
     std::uint64_t mapBytes = 0;
@@ -78,7 +81,7 @@ class MultiMapMethod final : public Method {
       cmd.fillBuffer(r.visibility().handle(), 0, VK_WHOLE_SIZE, 0u);  // 0.0f: the lookups add to it
       visibilityBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite);
       for (std::uint32_t s = 0; s < k; ++s) {
-        const raster::ShadowMapPass& map = *maps_.at(infos[s].faceCount);
+        const raster::ShadowMapPass& map = *maps_.at({infos[s].faceCount, infos[s].resolution});
         // Rendering map s+1 waits for lookup s's reads: recordLightFaces' first transition
         // has all commands as its source stage.
         if (timeEach) r.timer().begin(cmd, "shadow_map");
@@ -95,7 +98,8 @@ class MultiMapMethod final : public Method {
 
  private:
   // Kept across frames (the Renderer keeps its methods): made once per face count.
-  std::map<std::uint32_t, std::unique_ptr<raster::ShadowMapPass>> maps_;  // by face count
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::unique_ptr<raster::ShadowMapPass>>
+      maps_;  // by faces, resolution
   std::vector<gpu::Buffer> frames_;
 };
 
