@@ -34,7 +34,6 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
   s.tracer = first.tracer;
   s.samplesPerPixel = first.samplesPerPixel;
   s.setupMs = first.setupMs;
-  std::uint64_t coveredLights = 0;
   std::map<std::string, std::size_t> noteLights;  // how many lights gave each note
   for (Frame& light : lights) {
     light.covered.clear();
@@ -49,9 +48,11 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
     for (const auto& [what, bytes] : l.memoryBytes) s.memoryBytes[what] = std::max(s.memoryBytes[what], bytes);
     for (const auto& [what, count] : l.counts) s.counts[what] += count;
     for (const std::string& note : l.notes) ++noteLights[note];
-    coveredLights += std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
     s.lights.push_back(l);
   }
+  // every light's share of the same covered pixels
+  const std::uint64_t coveredLights =
+      std::uint64_t(std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1))) * s.lights.size();
   if (s.pipPixels) s.pipFraction = coveredLights ? double(*s.pipPixels) / double(coveredLights) : 0.0;
   // The frame's notes are those every light gave; a light's own (culled, srt's path and timings)
   // stay in its stats, which a note counts.
