@@ -89,6 +89,7 @@ class BitmaskMethod final : public Method {
       r.timer().begin(cmd, "trace");
       tracer.record(cmd, job);
       r.timer().end(cmd);
+      if (tracer.onDevice()) r.recordShade(cmd);  // the visibility is final here
     });
     r.finishTrace(tracer, job, stats);
     std::uint64_t bytes = table_->buffer().size(), regions = 0, texels = 0;

@@ -41,7 +41,9 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
       lightFit_(context),
       frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
       visibility_(context, pixels(settings) * sizeof(float),
-                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "visibility"),
+                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst |
+                      vk::BufferUsageFlagBits::eTransferSrc,
+                  "visibility"),
       indirect_(context, pixels(settings) * sizeof(glm::vec4), vk::BufferUsageFlagBits::eStorageBuffer,
                 "indirect light"),
       color_(context, pixels(settings) * 4, vk::BufferUsageFlagBits::eStorageBuffer, "shaded colour"),
@@ -184,7 +186,7 @@ glm::uvec4 FrameContext::lightRect() const {
 }
 
 TraceJob FrameContext::traceJob(const ShadowTracer& tracer, TraceList list) {
-  const bool inPlace = list == TraceList::EveryCovered && tracer.tracesInPlace() && !settings_.simulateBandwidth;
+  const bool inPlace = list == TraceList::EveryCovered && tracer.onDevice() && !settings_.simulateBandwidth;
   if (frameData_.traceInPlace != (inPlace ? 1u : 0u)) {
     frameData_.traceInPlace = inPlace ? 1u : 0u;
     frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));  // no submission is running
@@ -310,7 +312,8 @@ void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
   // it the light reaches no pixel.
   const bool wholeImage = frameData_.lightRectMax == glm::uvec2(0u);
   cmd.fillBuffer(visibility_.handle(), 0, VK_WHOLE_SIZE, wholeImage ? 0x3f800000u : 0u);  // 1.0f or 0.0f
-  cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);               // rays go all the way to the light
+  // Rays go all the way to the light: the compaction lists that (an in-place trace reads no list).
+  if (!frameData_.traceInPlace) cmd.fillBuffer(rayMax_.handle(), 0, VK_WHOLE_SIZE, 0u);
   const vk::MemoryBarrier2 barrier{.srcStageMask = vk::PipelineStageFlagBits2::eClear,
                                    .srcAccessMask = vk::AccessFlagBits2::eTransferWrite,
                                    .dstStageMask = vk::PipelineStageFlagBits2::eComputeShader,
@@ -319,11 +322,13 @@ void FrameContext::recordUnclassified(const vk::raii::CommandBuffer& cmd) {
 }
 
 void FrameContext::begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame,
-                         FrameStats& stats, bool sameView, std::uint32_t lightIndex) {
+                         FrameStats& stats, LightSlot slot) {
   view_ = cameraMatrices(camera, bounds_, int(settings_.width), int(settings_.height));
   cameraPosition_ = camera.eye;
   frameData_ = {};
-  lightIndex_ = lightIndex;
+  slot_ = slot;
+  term_ = method.term();
+  shadeRecorded_ = false;
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
   frameData_.light.sampleFrame = frame;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
@@ -362,8 +367,8 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
   stats.samplesPerPixel = frameData_.spp;
   timer_.reset();
-  gbufferRecorded_ = sameView;
-  coveredRead_ = coveredRead_ && sameView;
+  gbufferRecorded_ = slot.order > 0;  // the frame's first light rendered it
+  coveredRead_ = coveredRead_ && slot.order > 0;
 }
 
 // A point or spot light whose range the camera is outside of needs fine texels only where the range
@@ -447,36 +452,122 @@ void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStat
   m.shadowMapKey = key;
 }
 
-void FrameContext::shade(Method& method, FrameStats& stats, std::uint32_t light, std::uint32_t lights) {
-  if (stats.thinPass) stats.thinPass->thin = maps().thin->thinTriangles();
-  if (lights > 1 && !direct_) {
-    direct_ = std::make_unique<gpu::Buffer>(
-        context_, pixels(settings_) * sizeof(glm::vec4),
-        vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "direct light");
-  }
-  // A light before the last adds its direct light only where its range reaches: the rectangle
-  // its range sphere projects to (GpuLight::range; the whole image for lights without one).
-  const glm::uvec4 rect = light + 1 < lights ? lightRect() : glm::uvec4(0u, 0u, settings_.width, settings_.height);
-  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-    method.recordBeforeShade(*this, cmd, stats);
-    timer_.begin(cmd, "shade");
-    if (lights > 1 && light == 0) {
-      cmd.fillBuffer(direct_->handle(), 0, VK_WHOLE_SIZE, 0u);
-      gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
-                         vk::PipelineStageFlagBits2::eComputeShader,
-                         vk::AccessFlagBits2::eShaderStorageRead | vk::AccessFlagBits2::eShaderStorageWrite);
-    }
-    // one light: no sum to keep, and the shader does not touch the binding (any buffer will do)
-    if (rect.z > rect.x && rect.w > rect.y) {
-      shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, direct_ ? *direct_ : indirect_, color_,
-                    method.term(), light, lights, rect);
-    }
+void FrameContext::recordShade(const vk::raii::CommandBuffer& cmd) {
+  using Stage = vk::PipelineStageFlagBits2;
+  using Access = vk::AccessFlagBits2;
+  // after the passes that wrote the visibility (and the indirect light)
+  gpu::memoryBarrier(cmd, Stage::eComputeShader | Stage::eAllTransfer,
+                     Access::eShaderStorageWrite | Access::eTransferWrite, Stage::eComputeShader | Stage::eAllTransfer,
+                     Access::eShaderStorageRead | Access::eTransferRead);
+  timer_.begin(cmd, "shade");
+  shadeRecorded_ = true;
+  if (slot_.count == 1) {
+    shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, term_);
     timer_.end(cmd);
-  });
+    return;
+  }
+  const vk::DeviceSize image = pixels(settings_);
+  if (slot_.order == 0) {  // a new frame of lights; every submission before has finished
+    const vk::DeviceSize bytes = image * std::min(slot_.count, kShadeBatchImages) * sizeof(float);
+    if (!batchVisibility_ || batchVisibility_->size() < bytes) {
+      batchVisibility_ = std::make_unique<gpu::Buffer>(
+          context_, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+          "light visibilities");
+    }
+    batch_.clear();
+    batchFloats_ = 0;
+    batches_ = 0;
+  }
+  const glm::uvec4 rect = lightRect();
+  const std::uint64_t width = rect.z > rect.x && rect.w > rect.y ? rect.z - rect.x : 0u;
+  const std::uint64_t area = width * (rect.w - rect.y);
+  if (area > 0) {  // an empty rectangle: the light reaches no pixel
+    if ((batchFloats_ + area) * sizeof(float) > batchVisibility_->size()) recordShadeBatch(cmd, false);
+    // its visibility over its rectangle, row by row (one copy where the rows are whole)
+    std::vector<vk::BufferCopy> rows;
+    const std::uint32_t rowsPerCopy = width == settings_.width ? rect.w - rect.y : 1u;
+    for (std::uint32_t y = rect.y; y < rect.w; y += rowsPerCopy) {
+      rows.push_back({(vk::DeviceSize(y) * settings_.width + rect.x) * sizeof(float),
+                      (batchFloats_ + (y - rect.y) * width) * sizeof(float), width * rowsPerCopy * sizeof(float)});
+    }
+    cmd.copyBuffer(visibility_.handle(), batchVisibility_->handle(), rows);
+    shared::ShadeLight light{};
+    light.light = frameData_.light;
+    light.rect = rect;
+    light.offset = std::uint32_t(batchFloats_);
+    batch_.push_back(light);
+    batchFloats_ += area;
+  }
+  if (slot_.order + 1 == slot_.count) {
+    gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                       Access::eShaderStorageRead);
+    recordShadeBatch(cmd, true);
+  }
+  timer_.end(cmd);
 }
 
-Frame FrameContext::readBack(const Method& method, FrameStats stats, bool image) {
+void FrameContext::recordShadeBatch(const vk::raii::CommandBuffer& cmd, bool last) {
+  // Each tile lists the batch's lights whose rectangle meets it.
+  const std::uint32_t tilesX = (settings_.width + SHADE_TILE - 1) / SHADE_TILE;
+  const std::uint32_t tilesY = (settings_.height + SHADE_TILE - 1) / SHADE_TILE;
+  std::vector<std::uint32_t> tiles(std::size_t(tilesX) * tilesY + 1);
+  for (std::uint32_t ty = 0, t = 0; ty < tilesY; ++ty) {
+    for (std::uint32_t tx = 0; tx < tilesX; ++tx, ++t) {
+      tiles[t] = std::uint32_t(tiles.size());
+      const glm::uvec4 tile(tx * SHADE_TILE, ty * SHADE_TILE, (tx + 1) * SHADE_TILE, (ty + 1) * SHADE_TILE);
+      for (std::uint32_t k = 0; k < batch_.size(); ++k) {
+        const glm::uvec4& r = batch_[k].rect;
+        if (r.x < tile.z && tile.x < r.z && r.y < tile.w && tile.y < r.w) tiles.push_back(k);
+      }
+    }
+  }
+  tiles[std::size_t(tilesX) * tilesY] = std::uint32_t(tiles.size());
+  if (batches_ == shadeLists_.size()) shadeLists_.push_back(nullptr);
+  std::unique_ptr<ShadeLists>& lists = shadeLists_[batches_];
+  const vk::DeviceSize lightBytes = std::max<std::size_t>(batch_.size(), 1) * sizeof(shared::ShadeLight);
+  const vk::DeviceSize tileBytes = tiles.size() * sizeof(std::uint32_t);
+  if (!lists || lists->lights.size() < lightBytes || lists->tiles.size() < tileBytes) {
+    constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer;
+    lists = std::make_unique<ShadeLists>(ShadeLists{gpu::Buffer(context_, lightBytes, kUsage, "shade batch lights"),
+                                                    gpu::Buffer(context_, tileBytes, kUsage, "shade batch tiles")});
+  }
+  lists->lights.upload(std::span<const shared::ShadeLight>(batch_));
+  lists->tiles.upload(std::span<const std::uint32_t>(tiles));
+  const bool sum = batches_ > 0;
+  if (!last && !direct_) {
+    direct_ = std::make_unique<gpu::Buffer>(context_, pixels(settings_) * sizeof(glm::vec4),
+                                            vk::BufferUsageFlagBits::eStorageBuffer, "direct light");
+  }
+  // The first batch writes every pixel's sum, a later one adds over its lights' rectangles only,
+  // the last writes the image.
+  glm::uvec4 rect(0u, 0u, settings_.width, settings_.height);
+  if (sum && !last) {
+    rect = glm::uvec4(settings_.width, settings_.height, 0u, 0u);
+    for (const shared::ShadeLight& light : batch_) {
+      rect = glm::uvec4(glm::min(glm::uvec2(rect), glm::uvec2(light.rect)),
+                        glm::max(glm::uvec2(rect.z, rect.w), glm::uvec2(light.rect.z, light.rect.w)));
+    }
+  }
+  if (rect.z > rect.x && rect.w > rect.y) {
+    shade_.record(cmd, gbuffer_, frameBuffer_, *batchVisibility_, direct_ ? *direct_ : *batchVisibility_, color_,
+                  {lists->lights, lists->tiles, tilesX, last, sum}, rect);
+  }
+  ++batches_;
+  batch_.clear();
+  batchFloats_ = 0;
+  if (!last) {  // the next lights' copies overwrite what this pass reads
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead,
+                       vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite);
+  }
+}
+
+void FrameContext::shade() {
+  if (!shadeRecorded_) context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordShade(cmd); });
+}
+
+Frame FrameContext::readBack(const Method& method, FrameStats stats) {
   for (const auto& [pass, ms] : timer_.read()) stats.addPass(pass, ms);
+  if (stats.thinPass) stats.thinPass->thin = maps().thin->thinTriangles();
   Frame frame;
   frame.width = settings_.width;
   frame.height = settings_.height;
@@ -498,7 +589,13 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats, bool image)
       frame.visibility[i] = method.term() == Term::Ao ? 1.0f - light[i].a : (light[i].r + light[i].g + light[i].b) / 3.0f;
     }
   }
-  if (image) frame.rgba = color_.download<std::uint8_t>(pixels * 4);
+  if (slot_.order + 1 == slot_.count) {
+    frame.rgba = color_.download<std::uint8_t>(pixels * 4);
+    if (slot_.count > 1) {
+      stats.counts["shade_batches"] = batches_;
+      stats.memoryBytes["light_visibilities"] = batchVisibility_->size();
+    }
+  }
   const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
   if (frameData_.traceInPlace) {  // every covered pixel of the light's rectangle, read from the G-buffer
     const glm::uvec4 rect = lightRect();

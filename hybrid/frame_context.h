@@ -59,6 +59,13 @@ struct Frame {
   std::vector<Frame> lights;
 };
 
+// Which of a frame's lights FrameContext::begin starts: its index among the frame's lights (methods
+// keep state per light by it), and its place among the ones the view reaches, which run and shade in
+// turn: the first renders the G-buffer the others keep, the last writes the image.
+struct LightSlot {
+  std::uint32_t index = 0, order = 0, count = 1;
+};
+
 class FrameContext {
  public:
   FrameContext(const gpu::Context& context, const Scene& scene, const RenderSettings& settings);
@@ -67,11 +74,9 @@ class FrameContext {
   // The stages around a method's own (Renderer::render): the frame's data for this camera, light
   // and method (frame: of a sequence, rotating the light samples), the light's map fitted to the
   // view, shading, and reading the frame back.
-  // sameView: another light of the frame just rendered, whose G-buffer stays; lightIndex: which of the
-  // frame's lights this is (lightIndex()).
   void begin(const Camera& camera, const Light& light, const Method& method, std::uint32_t frame, FrameStats& stats,
-             bool sameView = false, std::uint32_t lightIndex = 0);
-  std::uint32_t lightIndex() const { return lightIndex_; }  // methods keep state per light by it
+             LightSlot slot = {});
+  std::uint32_t lightIndex() const { return slot_.index; }
   // False where the light's range lies wholly outside the camera's view: every pixel is beyond it
   // (lightReaches' range rule), so its visibility is 0 there without any pass.
   bool lightReachesView(const Camera& camera, const Light& light) const;
@@ -81,10 +86,11 @@ class FrameContext {
   // The pixels [xy, zw) the light's range projects to (the whole image for lights without one):
   // beyond it the light reaches nothing, so no pass of it need run there (FrameData::lightRectMin/Max).
   glm::uvec4 lightRect() const;
-  // Light `light` of the frame's `lights` (ShadePass): the last one writes the image.
-  void shade(Method& method, FrameStats& stats, std::uint32_t light = 0, std::uint32_t lights = 1);
-  // image: the shaded image too (a light before the frame's last has none of its own).
-  Frame readBack(const Method& method, FrameStats stats, bool image = true);
+  // After Method::run: this light's shading (ShadePass) in a submission of its own, unless the
+  // method recorded it in its last one (recordShade).
+  void shade();
+  // With the shaded image where this is the frame's last light (the others have none of their own).
+  Frame readBack(const Method& method, FrameStats stats);
   // Renderer::sceneMoved: re-uploads the moving meshes and refits the built tracers.
   void sceneMoved();
   std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
@@ -146,6 +152,13 @@ class FrameContext {
   void recordClassify(const vk::raii::CommandBuffer& cmd, FrameStats& stats) { classify(cmd, stats, false); }
   // For methods that trace without classifying: visibility 1 everywhere, no ray intervals.
   void recordUnclassified(const vk::raii::CommandBuffer& cmd);
+  // This light's shading, at the end of a method's last submission, once its visibility is final
+  // on the device (a CPU tracer's is not before finish): it saves shade() a submission per light.
+  // A frame of several lights keeps each light's visibility over its range rectangle and shades
+  // them a batch at a time, the last batch with the frame's last light (ShadeBatch).
+  void recordShade(const vk::raii::CommandBuffer& cmd);
+  // Light visibilities a shading batch holds at most, in images: more lights take more batches.
+  static constexpr std::uint32_t kShadeBatchImages = 16;
 
  private:
   // recordClassify; with appendList the classification also lists the flagged pixels where it can
@@ -174,7 +187,20 @@ class FrameContext {
     float distance;
   };
   std::vector<Clearance> clearances_;  // one per light position of the frame, while the scene stays
-  std::uint32_t lightIndex_ = 0;
+  // Shading a batch of lights (recordShade): its lights and its visibility packed, and the lists
+  // of each batch of a frame (kept across frames: a list is rewritten only once its frame is done).
+  void recordShadeBatch(const vk::raii::CommandBuffer& cmd, bool last);
+  struct ShadeLists {
+    gpu::Buffer lights, tiles;
+  };
+  std::unique_ptr<gpu::Buffer> batchVisibility_;
+  std::vector<shared::ShadeLight> batch_;
+  std::uint64_t batchFloats_ = 0;  // of batchVisibility_ used by batch_
+  std::vector<std::unique_ptr<ShadeLists>> shadeLists_;
+  std::uint32_t batches_ = 0;  // this frame's batches shaded so far
+  LightSlot slot_;
+  Term term_ = Term::Shadow;      // the method's (begin)
+  bool shadeRecorded_ = false;    // this light's shading, by recordShade
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;
@@ -209,7 +235,7 @@ class FrameContext {
   std::unique_ptr<LineSpaceTracer> ntree_;
   std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
-  std::unique_ptr<gpu::Buffer> direct_;  // frames of several lights: the sum of their direct light
+  std::unique_ptr<gpu::Buffer> direct_;  // frames of several batches of lights: the sum of their direct light
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};

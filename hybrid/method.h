@@ -24,10 +24,10 @@ const char* termName(Term term);
 class Method {
  public:
   virtual ~Method() = default;
-  // Leaves the frame's visibility in renderer.visibility() and records passes into stats.
+  // Leaves the frame's visibility in renderer.visibility() and records passes into stats; a
+  // method may record the frame's shading at the end of its last submission
+  // (FrameContext::recordShade), else it runs in a submission of its own.
   virtual void run(FrameContext& renderer, FrameStats& stats) = 0;
-  // Records what works on the finished visibility, in the shading pass's submission, before it.
-  virtual void recordBeforeShade(FrameContext&, const vk::raii::CommandBuffer&, FrameStats&) {}
   // What the shared frame data must say for this method.
   virtual std::uint32_t shadowFilter(const RenderSettings&) const { return 0; }  // FILTER_NONE
   virtual std::uint32_t samplesPerPixel(const RenderSettings& settings) const;

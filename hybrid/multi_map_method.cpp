@@ -93,6 +93,7 @@ class MultiMapMethod final : public Method {
         if (timeEach) r.timer().end(cmd);
       }
       if (!timeEach) r.timer().end(cmd);
+      r.recordShade(cmd);
     });
   }
 

@@ -98,13 +98,14 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
   for (std::size_t k = 0; k < reaching.size(); ++k) {
     FrameStats stats;
     stats.method = methodName;
-    frameContext_->begin(camera, lights[reaching[k]], *method, frame_, stats, k > 0, std::uint32_t(reaching[k]));
+    frameContext_->begin(camera, lights[reaching[k]], *method, frame_, stats,
+                         {std::uint32_t(reaching[k]), std::uint32_t(k), std::uint32_t(reaching.size())});
     const auto start = std::chrono::steady_clock::now();
     if (method->readsShadowMap()) frameContext_->fitLightToView(stats);
     method->run(*frameContext_, stats);
-    frameContext_->shade(*method, stats, std::uint32_t(k), std::uint32_t(reaching.size()));
+    frameContext_->shade();
     stats.totalMs = msSince(start);
-    frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats), k + 1 == reaching.size());
+    frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats));
   }
   if (lights.size() == 1) return std::move(frames.front());
   Frame& shaded = frames[reaching.back()];

@@ -32,6 +32,7 @@ class ShadowMapMethod final : public Method {
       r.timer().begin(cmd, "lookup");
       r.shadowLookup().record(cmd, r.gbuffer(), r.shadowMap(), r.frameBuffer(), r.visibility(), r.lightRect());
       r.timer().end(cmd);
+      r.recordShade(cmd);
     });
   }
 

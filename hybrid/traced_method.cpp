@@ -59,12 +59,16 @@ class TracedMethod final : public Method {
 
   void run(FrameContext& r, FrameStats& stats) override {
     ShadowTracer& tracer = r.tracer(stats, tracerName_);
+    // The frame's last submission shades: the denoiser's, else the last trace's where the
+    // visibility is final at its end (a GPU tracer).
+    const bool denoised = r.frameData().blockers != glm::uvec2(0u);
+    const bool shade = tracer.onDevice() && !denoised;
     if (!selective_) {
-      trace(r, tracer, false, stats);
+      trace(r, tracer, false, shade, stats);
     } else if (!r.settings().srtChoice) {
-      trace(r, tracer, true, stats);
+      trace(r, tracer, true, shade, stats);
     } else {
-      choose(r, tracer, stats);
+      choose(r, tracer, shade, stats);
     }
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, *lastJob_, classified_, stats);
     const bool binaryLineSpace = r.settings().lineSpace.shadows == LineSpaceSettings::Shadows::Binary;
@@ -72,13 +76,13 @@ class TracedMethod final : public Method {
       stats.notes.push_back("ls in binary mode shadows cut-outs solid: its shafts hold whole triangles "
                             "(--ls-shadows exact tests their alpha)");
     }
-    if (r.frameData().blockers != glm::uvec2(0u)) denoise(r, stats);
+    if (denoised) denoise(r, stats);
   }
 
  private:
   // One path of the frame: the paper's (light pass, classification, trace of the doubtful pixels)
-  // or every covered pixel traced.
-  void trace(FrameContext& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+  // or every covered pixel traced; then the shading, where `shade`.
+  void trace(FrameContext& r, ShadowTracer& tracer, bool classify, bool shade, FrameStats& stats) {
     const TraceList list = classify ? TraceList::Doubtful : TraceList::EveryCovered;
     const TraceJob& job = lastJob_.emplace(r.traceJob(tracer, list));
     r.context().submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
@@ -88,21 +92,22 @@ class TracedMethod final : public Method {
       r.timer().begin(cmd, "trace");
       tracer.record(cmd, job);
       r.timer().end(cmd);
+      if (shade) r.recordShade(cmd);
     });
     r.finishTrace(tracer, job, stats);
     classified_ = classify;
   }
 
   // trace(), timed: its wall time (the device's passes and a CPU tracer's trace, which no GPU
-  // timestamp sees: Embree) less the camera pass, which both paths share.
-  double timedTrace(FrameContext& r, ShadowTracer& tracer, bool classify, FrameStats& stats) {
+  // timestamp sees: Embree) less the camera pass and the shading, which both paths share.
+  double timedTrace(FrameContext& r, ShadowTracer& tracer, bool classify, bool shade, FrameStats& stats) {
     const std::size_t passesBefore = r.timer().passCount();
     const auto start = std::chrono::steady_clock::now();
-    trace(r, tracer, classify, stats);
+    trace(r, tracer, classify, shade, stats);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto passes = r.timer().read();
     for (std::size_t i = passesBefore; i < passes.size(); ++i) {
-      if (passes[i].first == "gbuffer") ms -= passes[i].second;
+      if (passes[i].first == "gbuffer" || passes[i].first == "shade") ms -= passes[i].second;
     }
     return ms;
   }
@@ -115,13 +120,13 @@ class TracedMethod final : public Method {
   // pays the first touch of its buffers: +35% at 1024^2), the classify path last, so that the
   // frame's result is the paper's; every kRemeasureFrames frames the other path runs once more,
   // as views and content change.
-  void choose(FrameContext& r, ShadowTracer& tracer, FrameStats& stats) {
+  void choose(FrameContext& r, ShadowTracer& tracer, bool shade, FrameStats& stats) {
     constexpr std::uint64_t kRemeasureFrames = 32;
     Choice& c = choices_[r.lightIndex()];
     if (!c.classifyMs || !c.traceAllMs) {
       for (int run = 0; run < 2; ++run) {
-        c.traceAllMs = timedTrace(r, tracer, false, stats);
-        c.classifyMs = timedTrace(r, tracer, true, stats);
+        c.traceAllMs = timedTrace(r, tracer, false, false, stats);
+        c.classifyMs = timedTrace(r, tracer, true, shade && run == 1, stats);
       }
       stats.notes.push_back("srt measured both of its paths in this frame (--srt-choice auto): classify " +
                             std::to_string(*c.classifyMs) + " ms, trace every pixel " + std::to_string(*c.traceAllMs) +
@@ -129,7 +134,7 @@ class TracedMethod final : public Method {
     } else {
       bool classify = *c.classifyMs <= *c.traceAllMs;
       if (++c.frames % kRemeasureFrames == 0) classify = !classify;
-      (classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, stats);
+      (classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, shade, stats);
       if (!classify) {
         stats.notes.push_back("srt traced every covered pixel (--srt-choice auto): its classify path last took " +
                               std::to_string(*c.classifyMs) + " ms, this one " + std::to_string(*c.traceAllMs) + " ms");
@@ -149,6 +154,7 @@ class TracedMethod final : public Method {
                          r.view(), r.frameData().light, r.sceneVersion()},
                         s.denoise);
       r.timer().end(cmd);
+      r.recordShade(cmd);
     });
     stats.memoryBytes["denoiser"] = denoiser_->bytes() + r.blockers().size();
     stats.denoise = denoiseModeName(s.denoise.mode);

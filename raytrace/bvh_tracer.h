@@ -27,7 +27,7 @@ class BvhTracer final : public ShadowTracer {
   BvhTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
 
   std::string name() const override { return "bvh"; }
-  bool tracesInPlace() const override { return true; }
+  bool onDevice() const override { return true; }
   // Resets the counters and records the indirect trace; its barriers order it after the compute
   // pass that wrote job.points / job.count and before later compute passes and host reads.
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;

@@ -36,7 +36,7 @@ class LineSpaceTracer final : public ShadowTracer {
   LineSpaceTracer(const gpu::Context& context, const Scene& scene, const NTree& tree, const LineSpaceSettings& settings);
 
   std::string name() const override { return "ls"; }
-  bool tracesInPlace() const override { return true; }
+  bool onDevice() const override { return true; }
   // Resets the counters and records the indirect trace, with the same barriers as BvhTracer.
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
   // Rays, node visits and triangle tests (exact mode's leaf triangles and the dynamic BVH's) of

@@ -21,7 +21,7 @@ class RayQueryTracer final : public ShadowTracer {
   RayQueryTracer(const gpu::Context& context, const Scene& scene, const BvhBuildSettings& settings = {});
 
   std::string name() const override { return "rq"; }
-  bool tracesInPlace() const override { return true; }
+  bool onDevice() const override { return true; }
   void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) override;
   TraceReport finish(const TraceJob& job) override;
 

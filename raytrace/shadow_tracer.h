@@ -72,8 +72,9 @@ class ShadowTracer {
  public:
   virtual ~ShadowTracer() = default;
   virtual std::string name() const = 0;  // "bvh", "embree", ...
-  // GPU tracers can take their points straight from the G-buffer (TraceJob, trace_points.glsl).
-  virtual bool tracesInPlace() const { return false; }
+  // A GPU tracer: its trace is done when the submission that recorded it is, and it can take its
+  // points straight from the G-buffer (TraceJob, trace_points.glsl).
+  virtual bool onDevice() const { return false; }
   // GPU tracers record their trace here (before the submission); CPU tracers record nothing.
   virtual void record(const vk::raii::CommandBuffer& cmd, const TraceJob& job) = 0;
   // After the submission completed: CPU tracers trace here; every tracer reports its counters.

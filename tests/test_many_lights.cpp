@@ -68,6 +68,41 @@ TEST(ManyLights, ShadingAddsTheLights) {
   expectValidationSilent();
 }
 
+// The image sums the lights a batch at a time, each light's visibility kept over its range's
+// rectangle: two copies of a street lamp at half its intensity shade exactly as the lamp where its
+// rectangle is part of the view, and 32 copies of the courtyard's light at 1/32 of it, more than one
+// batch holds, shade as the light to within a level of rounding.
+TEST(ManyLights, BatchesAddEveryLightOnce) {
+  SceneRun street("builtin:street:16", smallSettings(96));
+  const Light lamp = street.scene.lights[10];
+  const glm::uvec4 rect =
+      screenRect(cameraMatrices(street.camera, street.scene.bounds(), 96, 96), lamp.position, lamp.range, 96, 96);
+  ASSERT_LT(rect.z - rect.x, 96u) << "the lamp's rectangle is part of every row it meets";
+  ASSERT_LT(rect.w - rect.y, 96u);
+  Light half = lamp;
+  half.intensity *= 0.5f;
+  const Frame one = street.renderer->render("frt", street.camera, lamp);
+  const Frame two = street.renderer->render("frt", street.camera, std::vector<Light>{half, half});
+  EXPECT_EQ(two.rgba, one.rgba);
+
+  SceneRun run("builtin:courtyard", smallSettings(96));
+  const Frame light = run.renderer->render("frt", run.camera, run.light);
+  Light part = run.light;
+  part.intensity /= 32.0f;
+  const std::vector<Light> parts(32, part);
+  const Frame sum = run.renderer->render("frt", run.camera, parts);
+  EXPECT_EQ(sum.stats.counts.at("shade_batches"), 2u) << "batches of " << FrameContext::kShadeBatchImages << " images";
+  int worst = 0;
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < light.rgba.size(); ++i) {
+    worst = std::max(worst, std::abs(int(light.rgba[i]) - int(sum.rgba[i])));
+    differ += light.rgba[i] != sum.rgba[i];
+  }
+  EXPECT_LE(worst, 1);
+  EXPECT_LT(differ, light.rgba.size() / 100);
+  expectValidationSilent();
+}
+
 // srt and sm per light against the reference's same light: srt within the hard-shadow bound on
 // every light; sm, the map alone, wrong on more pixels.
 TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {

@@ -2,6 +2,7 @@
 #ifndef PENUMBRA_SHARED_RASTER_H
 #define PENUMBRA_SHARED_RASTER_H
 #include "shared/glsl_cpp.h"
+#include "shared/light.h"
 PN_BEGIN
 
 #define LOOKUP_GROUP_SIZE 8  // shadow_lookup.comp and shade.comp: 8x8 pixels per workgroup
@@ -24,14 +25,31 @@ PN_BEGIN
 #define SHADE_BINDING_COLOR 5       // packed RGBA8 per pixel, written
 #define SHADE_BINDING_INDIRECT 6    // vec4 per pixel: rgb one-bounce light, a occlusion
 #define SHADE_BINDING_DIRECT 7      // vec4 per pixel: rgb direct light of the frame's lights so far
+#define SHADE_BINDING_LIGHTS 8      // a batch of the frame's lights: ShadeLight each
+#define SHADE_BINDING_TILES 9       // a batch's lights per tile: tiles + 1 starts, then ShadeLight indices
+
+#define SHADE_TILE 16  // pixels per side of the tiles a batch lists its lights by
+
+// One light of a batch that one shading pass adds (frames of several lights): each light's
+// visibility is kept over the rectangle of pixels its range reaches (the image for lights without
+// one), row by row from `offset` in the batch's visibility buffer; beyond it the light adds nothing.
+struct ShadeLight {  // std430, 128 bytes
+  GpuLight light;
+  uvec4 rect;   // pixels [xy, zw)
+  uint offset;  // of pixel rect.xy in the batch's visibility
+  uint pad0, pad1, pad2;
+};
 
 // Push constants of the shading pass: the method's term (hybrid/method.h Term: 0 shadow, 1 ao,
-// 2 indirect), which of the frame's lights this pass adds, and the pixels it covers.
+// 2 indirect), the lights it adds, and the pixels it covers.
 struct ShadePush {
-  uvec2 origin;  // the first pixel of the rectangle the pass covers (the image, or a light's reach)
+  uvec2 origin;  // the first pixel of the rectangle the pass covers (the image, or its batch's lights' reach)
   uint term;
-  uint light;  // 0 .. lights - 1; the passes before the last add into the direct buffer (zeroed first)
-  uint lights;
+  uint batched;  // 0: the frame's one light (FrameData's, visibility per pixel); 1: a batch (ShadeLight)
+  uint last;     // 1: writes the image; 0 (a batch before the frame's last): writes the direct light so far
+  uint sum;      // 1: adds the direct light of the batches before
+  uint tilesX;   // tiles per row of SHADE_BINDING_TILES
+  uint pad0;
 };
 
 #define GBUFFER_BINDING_COLOR 0  // gbuffer_textured.frag, gbuffer_cutout.frag: the mesh's colour texture (sampled)
