@@ -55,7 +55,7 @@ struct RunSetup {
   Scene scene;
   Camera camera;
   // Every light of the frame: --light's (repeatable), else the view file's, else the scene's, else a
-  // default one. Tools of one light (the demo, view files) take the first.
+  // default one.
   std::vector<Light> lights;
   float lightSizeFraction = 0.0f;
   double time = 0.0;  // the scene is posed at this time

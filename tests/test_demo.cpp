@@ -288,6 +288,37 @@ TEST_F(DemoTest, ScriptedSrtMatchesTheCliRenderOfTheSavedView) {
   EXPECT_GT(beyondFirst, std::size_t(0.1 * 128 * 128));
 }
 
+// A run of several lights: the demo lights the frame with all of them, moves the selected one, and
+// its saved view keeps every light, so that the CLI renders the same image from it; the first lamp
+// alone renders another.
+TEST_F(DemoTest, EveryLightOfTheRunLightsTheFrame) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const auto shotRun = demo(
+      "--scene builtin:street:4 --method frt --res 96x96 --light-path circle --validate --frames 3 "
+      "--screenshot " +
+          path("shot.png") + " --save-view " + path("view.json"),
+      x.display());
+  ASSERT_EQ(shotRun.exitCode, 0) << shotRun.err;
+  const nlohmann::json view = nlohmann::json::parse(test::slurp(dir_ / "view.json"));
+  ASSERT_EQ(view.at("lights").size(), 4u);
+  const auto cli =
+      run("render --scene builtin:street:4 --view " + path("view.json") + " --method frt --out " + path("cli"));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  const Image shot = readPng(dir_ / "shot.png");
+  const auto [worst, beyond] = compareImages(shot, readPng(dir_ / "cli" / "frt.png"), 1);
+  EXPECT_LE(worst, 1) << beyond << " pixels differ by more";
+  // the first lamp alone (as the demo placed it) is darker elsewhere
+  nlohmann::json first = view;
+  first["lights"] = nlohmann::json::array({view["lights"][0]});
+  std::ofstream(dir_ / "first.json") << first.dump();
+  const auto one =
+      run("render --scene builtin:street:4 --view " + path("first.json") + " --method frt --out " + path("one"));
+  ASSERT_EQ(one.exitCode, 0) << one.err;
+  const auto [worstOne, beyondOne] = compareImages(shot, readPng(dir_ / "one" / "frt.png"), 1);
+  EXPECT_GT(beyondOne, std::size_t(96 * 96 / 20)) << "largest difference " << worstOne;
+}
+
 TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
   Xvfb x;
   ASSERT_TRUE(x.error().empty()) << x.error();

@@ -35,9 +35,17 @@ class DemoSession {
   void setMethod(const std::string& method);  // InputError for unknown names
 
   CameraController& cameraController() { return camera_; }
-  const Light& light() const { return light_; }
-  void setLight(const Light& light) { light_ = light; }
-  float lightSizeFraction() const { return lightSizeFraction_; }
+  // The run's lights (--light, --lights, the view's or the scene's): every shown one lights the
+  // frame (methods ao and indirect: the selected one); the light controls act on the selected one.
+  std::size_t lightCount() const { return lights_.size(); }
+  std::size_t selectedLight() const { return selected_; }
+  void selectLight(std::size_t index);  // InputError past the last
+  bool lightShown(std::size_t index) const { return shown_.at(index) != 0; }
+  void showLight(std::size_t index, bool shown);  // InputError when it would hide every light
+  const Light& lightAt(std::size_t index) const { return lights_.at(index); }
+  const Light& light() const { return lights_[selected_]; }  // the selected one
+  void setLight(const Light& light) { lights_[selected_] = light; }
+  float lightSizeFraction() const { return sizeFractions_[selected_]; }
   void setLightSize(float fraction);  // rect and disk lights; InputError for other types
   void setLightType(LightType type);
 
@@ -61,19 +69,21 @@ class DemoSession {
   // hard shadows, 0.25 for soft ones, as in `penumbra compare`). Needs reference().
   std::vector<std::uint8_t> errorHeatmap() const;
 
-  View view() const;  // what --save-view writes: the camera and light of the last render
+  View view() const;  // what --save-view writes: the camera and lights of the last render
 
  private:
   struct Key {  // what a rendered frame depends on besides the method
     Camera camera;
-    Light light;
+    std::vector<Light> lights;  // the shown ones, as rendered
     double time = 0.0;
     std::uint64_t settingsVersion = 0;
     bool operator==(const Key& other) const;
   };
   Key currentKey() const;
   Camera renderCamera() const;
-  Light renderLight() const;
+  std::vector<Light> renderLights() const;
+  // The selected light's visibility in `frame` (a frame of the key's lights), or the frame's own.
+  const std::vector<float>& selectedVisibility(const Frame& frame, const Key& key) const;
 
   const gpu::Context& context_;
   RunSetup setup_;
@@ -82,8 +92,10 @@ class DemoSession {
   Term term_ = Term::Shadow;
   bool canonicalViews_;
   CameraController camera_;
-  Light light_;
-  float lightSizeFraction_;
+  std::vector<Light> lights_;
+  std::vector<float> sizeFractions_;  // each light's --light-size (a fraction of the scene's radius)
+  std::vector<std::uint8_t> shown_;
+  std::size_t selected_ = 0;
   bool animated_;
   double time_ = 0.0;
   std::uint64_t settingsVersion_ = 0;

@@ -50,6 +50,31 @@ bool intCombo(const char* label, const std::array<int, N>& values, std::uint32_t
   return changed;
 }
 
+// A run of several lights: each shown or hidden, and the one the light controls move.
+void lightList(DemoSession& session) {
+  const std::size_t count = session.lightCount();
+  ImGui::Text("lights: %zu (checked ones light the frame)", count);
+  if (session.term() != Term::Shadow)
+    ImGui::TextDisabled("%s takes one light: the selected one", session.method().c_str());
+  const float rows = float(std::min<std::size_t>(count, 8));
+  if (ImGui::BeginChild("lights", ImVec2(0.0f, rows * ImGui::GetFrameHeightWithSpacing()), true)) {
+    for (std::size_t i = 0; i < count; ++i) {
+      ImGui::PushID(int(i));
+      bool shown = session.lightShown(i);
+      if (ImGui::Checkbox("##shown", &shown)) session.showLight(i, shown);
+      ImGui::SameLine();
+      const Light& light = session.lightAt(i);
+      char label[96];
+      std::snprintf(label, sizeof label, "%zu  %s  (%.2f, %.2f, %.2f)", i,
+                    kLightTypeNames[std::max(0, indexOf(kLightTypes, light.type))], light.position.x, light.position.y,
+                    light.position.z);
+      if (ImGui::Selectable(label, i == session.selectedLight())) session.selectLight(i);
+      ImGui::PopID();
+    }
+  }
+  ImGui::EndChild();
+}
+
 void controls(DemoSession& session, UiState& state) {
   const std::vector<std::string> methods = methodNames();
   if (ImGui::BeginCombo("method", session.method().c_str())) {
@@ -89,6 +114,7 @@ void controls(DemoSession& session, UiState& state) {
   if (settingsChanged) session.setSettings(settings);
 
   ImGui::Separator();
+  if (session.lightCount() > 1) lightList(session);
   int type = std::max(0, indexOf(kLightTypes, session.light().type));
   if (ImGui::Combo("light", &type, kLightTypeNames.data(), int(kLightTypeNames.size()))) session.setLightType(kLightTypes[type]);
   const bool area = session.light().type == LightType::Rect || session.light().type == LightType::Disk;
@@ -123,6 +149,7 @@ void stats(const DemoSession& session, const UiInfo& info) {
     }
     ImGui::EndTable();
   }
+  if (!frame.lights.empty()) ImGui::Text("lights in the frame: %zu", frame.lights.size());
   if (s.pipFraction) ImGui::Text("PIP %.2f %% of covered pixels", 100.0 * *s.pipFraction);
   if (s.raysTraced) ImGui::Text("rays %llu", static_cast<unsigned long long>(*s.raysTraced));
   std::uint64_t structures = 0;
