@@ -1,6 +1,5 @@
 #include "core/lights_file.h"
 
-#include <charconv>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -21,28 +20,20 @@ float number(const nlohmann::json& json, const char* field, float low, const cha
   return v.get<float>();
 }
 
-// The shortest text that reads back as the float, so that files show 0.85, not 0.8500000238418579.
-double shortest(float v) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof(text), v).ptr;
-  double out = 0.0;
-  std::from_chars(text, end, out);
-  return out;
-}
-
 }  // namespace
 
 nlohmann::ordered_json lightToJson(const Light& light, const glm::dvec3& origin) {
   nlohmann::ordered_json json;  // the spec first, as people read it
   json["light"] = formatLight(light, origin);
   const Light defaults;
-  if (light.size != 0.0f) json["size"] = shortest(light.size);
+  if (light.size != 0.0f) json["size"] = shortestDouble(light.size);
   if (light.color != defaults.color)
-    json["color"] = {shortest(light.color.r), shortest(light.color.g), shortest(light.color.b)};
-  if (light.intensity != defaults.intensity) json["intensity"] = shortest(light.intensity);
-  if (light.range != 0.0f) json["range"] = shortest(light.range);
+    json["color"] = {shortestDouble(light.color.r), shortestDouble(light.color.g), shortestDouble(light.color.b)};
+  if (light.intensity != defaults.intensity) json["intensity"] = shortestDouble(light.intensity);
+  if (light.range != 0.0f) json["range"] = shortestDouble(light.range);
   if (light.inverseSquare) json["inverse_square"] = true;
-  if (light.type == LightType::Spot && light.innerAngleDeg >= 0.0f) json["inner_angle"] = shortest(light.innerAngleDeg);
+  if (light.type == LightType::Spot && light.innerAngleDeg >= 0.0f)
+    json["inner_angle"] = shortestDouble(light.innerAngleDeg);
   return json;
 }
 

@@ -152,6 +152,13 @@ std::string lightSizeProblem(const Light& light, float fraction) {
 
 }  // namespace
 
+double shortestDouble(float v) {
+  const std::string text = formatNumber(v);
+  double out = 0.0;
+  std::from_chars(text.data(), text.data() + text.size(), out);
+  return out;
+}
+
 Camera parseCamera(const std::string& spec, const glm::dvec3& origin) {
   try {
     const std::vector<std::string_view> parts = split(spec, ':');
@@ -388,11 +395,7 @@ void writeViewFile(const std::string& path, const View& view, const glm::dvec3& 
   nlohmann::ordered_json json;
   json["camera"] = formatCamera(view.camera, origin);
   json["light"] = formatLight(view.light, origin);
-  // Through the shortest float text, so the file shows 0.1 rather than 0.10000000149011612.
-  const std::string sizeText = formatNumber(view.lightSizeFraction);
-  double size = 0.0;
-  std::from_chars(sizeText.data(), sizeText.data() + sizeText.size(), size);
-  json["light_size"] = size;
+  json["light_size"] = shortestDouble(view.lightSizeFraction);
   if (!view.lights.empty()) {
     json["lights"] = nlohmann::ordered_json::array();
     for (const Light& light : view.lights) json["lights"].push_back(lightToJson(light, origin));

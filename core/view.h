@@ -58,6 +58,9 @@ struct View {
   int height = 256;
   double time = 0.0;  // animated scenes: seconds into the animation (optional field "time")
 };
+// The double whose shortest text reads back as `v`: a JSON file then shows 0.85, not
+// 0.8500000238418579 (view files, lights files).
+double shortestDouble(float v);
 // The JSON in a file; InputError naming it (`file`, e.g. "view file 'x'") when it is missing,
 // unreadable or not JSON (then saying what was `expected`).
 nlohmann::json readJsonFile(const std::string& path, const std::string& file, const std::string& expected);
