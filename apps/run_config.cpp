@@ -19,9 +19,9 @@
 #include "core/metrics.h"
 #include "core/scene_loader.h"
 #include "core/view.h"
-#include "hybrid/frame_context.h"
 #include "hybrid/method.h"
 #include "hybrid/registry.h"
+#include "hybrid/shade_pass.h"
 #include "raster/color_textures.h"
 
 namespace penumbra {
@@ -346,8 +346,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
   // camera pass's colour textures
   need.textures = 2 * cutoutDataBytes(s.scene) + raster::colorTextureBytes(s.scene);
   if (s.lights.size() > 1) {
-    // the lights' sum, and their visibilities a shading batch keeps (FrameContext::recordShade)
-    const std::uint64_t batch = std::min<std::uint64_t>(s.lights.size(), FrameContext::kShadeBatchImages);
+    // the lights' sum, and their visibilities a shading batch keeps (ShadePass::recordLight)
+    const std::uint64_t batch = std::min<std::uint64_t>(s.lights.size(), ShadePass::kBatchImages);
     need.perPixel += std::uint64_t(s.settings.width) * s.settings.height * (16 + 4 * batch);
     // the lights' maps are kept by face count and resolution: a one-face map's beside a cube's
     // (1/6 more), and coarser footprint resolutions (powers of two below: at most 1/3 more)

@@ -463,102 +463,11 @@ void FrameContext::recordShade(const vk::raii::CommandBuffer& cmd) {
   shadeRecorded_ = true;
   if (slot_.count == 1) {
     shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, term_);
-    timer_.end(cmd);
-    return;
-  }
-  const vk::DeviceSize image = pixels(settings_);
-  if (slot_.order == 0) {  // a new frame of lights; every submission before has finished
-    const vk::DeviceSize bytes = image * std::min(slot_.count, kShadeBatchImages) * sizeof(float);
-    if (!batchVisibility_ || batchVisibility_->size() < bytes) {
-      batchVisibility_ = std::make_unique<gpu::Buffer>(
-          context_, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
-          "light visibilities");
-    }
-    batch_.clear();
-    batchFloats_ = 0;
-    batches_ = 0;
-  }
-  const glm::uvec4 rect = lightRect();
-  const std::uint64_t width = rect.z > rect.x && rect.w > rect.y ? rect.z - rect.x : 0u;
-  const std::uint64_t area = width * (rect.w - rect.y);
-  if (area > 0) {  // an empty rectangle: the light reaches no pixel
-    if ((batchFloats_ + area) * sizeof(float) > batchVisibility_->size()) recordShadeBatch(cmd, false);
-    // its visibility over its rectangle, row by row (one copy where the rows are whole)
-    std::vector<vk::BufferCopy> rows;
-    const std::uint32_t rowsPerCopy = width == settings_.width ? rect.w - rect.y : 1u;
-    for (std::uint32_t y = rect.y; y < rect.w; y += rowsPerCopy) {
-      rows.push_back({(vk::DeviceSize(y) * settings_.width + rect.x) * sizeof(float),
-                      (batchFloats_ + (y - rect.y) * width) * sizeof(float), width * rowsPerCopy * sizeof(float)});
-    }
-    cmd.copyBuffer(visibility_.handle(), batchVisibility_->handle(), rows);
-    shared::ShadeLight light{};
-    light.light = frameData_.light;
-    light.rect = rect;
-    light.offset = std::uint32_t(batchFloats_);
-    batch_.push_back(light);
-    batchFloats_ += area;
-  }
-  if (slot_.order + 1 == slot_.count) {
-    gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
-                       Access::eShaderStorageRead);
-    recordShadeBatch(cmd, true);
+  } else {
+    shade_.recordLight(cmd, gbuffer_, frameBuffer_, visibility_, color_, frameData_.light, lightRect(), slot_.order,
+                       slot_.count);
   }
   timer_.end(cmd);
-}
-
-void FrameContext::recordShadeBatch(const vk::raii::CommandBuffer& cmd, bool last) {
-  // Each tile lists the batch's lights whose rectangle meets it.
-  const std::uint32_t tilesX = (settings_.width + SHADE_TILE - 1) / SHADE_TILE;
-  const std::uint32_t tilesY = (settings_.height + SHADE_TILE - 1) / SHADE_TILE;
-  std::vector<std::uint32_t> tiles(std::size_t(tilesX) * tilesY + 1);
-  for (std::uint32_t ty = 0, t = 0; ty < tilesY; ++ty) {
-    for (std::uint32_t tx = 0; tx < tilesX; ++tx, ++t) {
-      tiles[t] = std::uint32_t(tiles.size());
-      const glm::uvec4 tile(tx * SHADE_TILE, ty * SHADE_TILE, (tx + 1) * SHADE_TILE, (ty + 1) * SHADE_TILE);
-      for (std::uint32_t k = 0; k < batch_.size(); ++k) {
-        const glm::uvec4& r = batch_[k].rect;
-        if (r.x < tile.z && tile.x < r.z && r.y < tile.w && tile.y < r.w) tiles.push_back(k);
-      }
-    }
-  }
-  tiles[std::size_t(tilesX) * tilesY] = std::uint32_t(tiles.size());
-  if (batches_ == shadeLists_.size()) shadeLists_.push_back(nullptr);
-  std::unique_ptr<ShadeLists>& lists = shadeLists_[batches_];
-  const vk::DeviceSize lightBytes = std::max<std::size_t>(batch_.size(), 1) * sizeof(shared::ShadeLight);
-  const vk::DeviceSize tileBytes = tiles.size() * sizeof(std::uint32_t);
-  if (!lists || lists->lights.size() < lightBytes || lists->tiles.size() < tileBytes) {
-    constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer;
-    lists = std::make_unique<ShadeLists>(ShadeLists{gpu::Buffer(context_, lightBytes, kUsage, "shade batch lights"),
-                                                    gpu::Buffer(context_, tileBytes, kUsage, "shade batch tiles")});
-  }
-  lists->lights.upload(std::span<const shared::ShadeLight>(batch_));
-  lists->tiles.upload(std::span<const std::uint32_t>(tiles));
-  const bool sum = batches_ > 0;
-  if (!last && !direct_) {
-    direct_ = std::make_unique<gpu::Buffer>(context_, pixels(settings_) * sizeof(glm::vec4),
-                                            vk::BufferUsageFlagBits::eStorageBuffer, "direct light");
-  }
-  // The first batch writes every pixel's sum, a later one adds over its lights' rectangles only,
-  // the last writes the image.
-  glm::uvec4 rect(0u, 0u, settings_.width, settings_.height);
-  if (sum && !last) {
-    rect = glm::uvec4(settings_.width, settings_.height, 0u, 0u);
-    for (const shared::ShadeLight& light : batch_) {
-      rect = glm::uvec4(glm::min(glm::uvec2(rect), glm::uvec2(light.rect)),
-                        glm::max(glm::uvec2(rect.z, rect.w), glm::uvec2(light.rect.z, light.rect.w)));
-    }
-  }
-  if (rect.z > rect.x && rect.w > rect.y) {
-    shade_.record(cmd, gbuffer_, frameBuffer_, *batchVisibility_, direct_ ? *direct_ : *batchVisibility_, color_,
-                  {lists->lights, lists->tiles, tilesX, last, sum}, rect);
-  }
-  ++batches_;
-  batch_.clear();
-  batchFloats_ = 0;
-  if (!last) {  // the next lights' copies overwrite what this pass reads
-    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead,
-                       vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite);
-  }
 }
 
 void FrameContext::shade() {
@@ -592,8 +501,8 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
   if (slot_.order + 1 == slot_.count) {
     frame.rgba = color_.download<std::uint8_t>(pixels * 4);
     if (slot_.count > 1) {
-      stats.counts["shade_batches"] = batches_;
-      stats.memoryBytes["light_visibilities"] = batchVisibility_->size();
+      stats.counts["shade_batches"] = shade_.batches();
+      stats.memoryBytes["light_visibilities"] = shade_.batchBytes();
     }
   }
   const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));

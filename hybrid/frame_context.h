@@ -154,11 +154,8 @@ class FrameContext {
   void recordUnclassified(const vk::raii::CommandBuffer& cmd);
   // This light's shading, at the end of a method's last submission, once its visibility is final
   // on the device (a CPU tracer's is not before finish): it saves shade() a submission per light.
-  // A frame of several lights keeps each light's visibility over its range rectangle and shades
-  // them a batch at a time, the last batch with the frame's last light (ShadeBatch).
+  // A frame of several lights shades them a batch at a time (ShadePass::recordLight).
   void recordShade(const vk::raii::CommandBuffer& cmd);
-  // Light visibilities a shading batch holds at most, in images: more lights take more batches.
-  static constexpr std::uint32_t kShadeBatchImages = 16;
 
  private:
   // recordClassify; with appendList the classification also lists the flagged pixels where it can
@@ -187,17 +184,6 @@ class FrameContext {
     float distance;
   };
   std::vector<Clearance> clearances_;  // one per light position of the frame, while the scene stays
-  // Shading a batch of lights (recordShade): its lights and its visibility packed, and the lists
-  // of each batch of a frame (kept across frames: a list is rewritten only once its frame is done).
-  void recordShadeBatch(const vk::raii::CommandBuffer& cmd, bool last);
-  struct ShadeLists {
-    gpu::Buffer lights, tiles;
-  };
-  std::unique_ptr<gpu::Buffer> batchVisibility_;
-  std::vector<shared::ShadeLight> batch_;
-  std::uint64_t batchFloats_ = 0;  // of batchVisibility_ used by batch_
-  std::vector<std::unique_ptr<ShadeLists>> shadeLists_;
-  std::uint32_t batches_ = 0;  // this frame's batches shaded so far
   LightSlot slot_;
   Term term_ = Term::Shadow;      // the method's (begin)
   bool shadeRecorded_ = false;    // this light's shading, by recordShade
@@ -235,7 +221,6 @@ class FrameContext {
   std::unique_ptr<LineSpaceTracer> ntree_;
   std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
-  std::unique_ptr<gpu::Buffer> direct_;  // frames of several batches of lights: the sum of their direct light
   gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};

@@ -1,5 +1,7 @@
 #include "hybrid/shade_pass.h"
 
+#include <algorithm>
+
 #include "shade_comp.h"
 #include "shared/raster.h"
 
@@ -20,7 +22,7 @@ constexpr gpu::Binding kBindings[] = {{SHADE_BINDING_POSITION, vk::DescriptorTyp
 }  // namespace
 
 ShadePass::ShadePass(const gpu::Context& context)
-    : pipeline_(context, shade_comp, kBindings, sizeof(shared::ShadePush), "shade pipeline") {}
+    : context_(context), pipeline_(context, shade_comp, kBindings, sizeof(shared::ShadePush), "shade pipeline") {}
 
 void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
                        const gpu::Buffer& visibility, const gpu::Buffer& indirect, const gpu::Buffer& color,
@@ -33,18 +35,111 @@ void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBuffer
            {0u, 0u, gbuffer.width(), gbuffer.height()});
 }
 
-void ShadePass::record(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
-                       const gpu::Buffer& visibility, const gpu::Buffer& direct, const gpu::Buffer& color,
-                       const ShadeBatch& batch, const glm::uvec4& rect) const {
-  shared::ShadePush push{};
-  push.origin = glm::uvec2(rect);
-  push.term = std::uint32_t(Term::Shadow);  // the methods that take several lights
-  push.batched = 1u;
-  push.last = batch.last ? 1u : 0u;
-  push.sum = batch.sum ? 1u : 0u;
-  push.tilesX = batch.tilesX;
-  // the indirect binding: a method of several lights has no indirect term (any buffer will do)
-  dispatch(cmd, gbuffer, frame, visibility, direct, direct, color, batch.lights, batch.tiles, push, rect);
+void ShadePass::recordLight(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
+                            const gpu::Buffer& frame, const gpu::Buffer& visibility, const gpu::Buffer& color,
+                            const shared::GpuLight& light, const glm::uvec4& rect, std::uint32_t order,
+                            std::uint32_t count) {
+  const std::uint64_t width = gbuffer.width(), image = width * gbuffer.height();
+  if (order == 0) {  // a new frame of lights; every submission before has finished
+    const vk::DeviceSize bytes = image * std::min(count, kBatchImages) * sizeof(float);
+    if (!batchVisibility_ || batchVisibility_->size() < bytes) {
+      batchVisibility_ = std::make_unique<gpu::Buffer>(
+          context_, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+          "light visibilities");
+    }
+    batch_.clear();
+    batchFloats_ = 0;
+    batches_ = 0;
+  }
+  const std::uint64_t rectWidth = rect.z > rect.x && rect.w > rect.y ? rect.z - rect.x : 0u;
+  const std::uint64_t area = rectWidth * (rect.w - rect.y);
+  if (area > 0) {  // an empty rectangle: the light reaches no pixel
+    if ((batchFloats_ + area) * sizeof(float) > batchVisibility_->size())
+      recordBatch(cmd, gbuffer, frame, color, false);
+    // its visibility over its rectangle, row by row (one copy where the rows are whole)
+    rows_.clear();
+    const std::uint32_t rowsPerCopy = rectWidth == width ? rect.w - rect.y : 1u;
+    for (std::uint32_t y = rect.y; y < rect.w; y += rowsPerCopy) {
+      rows_.push_back({(y * width + rect.x) * sizeof(float), (batchFloats_ + (y - rect.y) * rectWidth) * sizeof(float),
+                       rectWidth * rowsPerCopy * sizeof(float)});
+    }
+    cmd.copyBuffer(visibility.handle(), batchVisibility_->handle(), rows_);
+    shared::ShadeLight shaded{};
+    shaded.light = light;
+    shaded.rect = rect;
+    shaded.offset = std::uint32_t(batchFloats_);
+    batch_.push_back(shaded);
+    batchFloats_ += area;
+  }
+  if (order + 1 == count) {
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite,
+                       vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead);
+    recordBatch(cmd, gbuffer, frame, color, true);
+  }
+}
+
+void ShadePass::recordBatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
+                            const gpu::Buffer& frame, const gpu::Buffer& color, bool last) {
+  // Each tile lists the batch's lights whose rectangle meets it: tiles + 1 starts, then the lists.
+  const std::uint32_t width = gbuffer.width(), height = gbuffer.height();
+  const std::uint32_t tilesX = (width + SHADE_TILE - 1) / SHADE_TILE, tilesY = (height + SHADE_TILE - 1) / SHADE_TILE;
+  tiles_.assign(std::size_t(tilesX) * tilesY + 1, 0u);
+  for (std::uint32_t ty = 0, t = 0; ty < tilesY; ++ty) {
+    for (std::uint32_t tx = 0; tx < tilesX; ++tx, ++t) {
+      tiles_[t] = std::uint32_t(tiles_.size());
+      const glm::uvec4 tile(tx * SHADE_TILE, ty * SHADE_TILE, (tx + 1) * SHADE_TILE, (ty + 1) * SHADE_TILE);
+      for (std::uint32_t k = 0; k < batch_.size(); ++k) {
+        const glm::uvec4& r = batch_[k].rect;
+        if (r.x < tile.z && tile.x < r.z && r.y < tile.w && tile.y < r.w) tiles_.push_back(k);
+      }
+    }
+  }
+  tiles_[std::size_t(tilesX) * tilesY] = std::uint32_t(tiles_.size());
+  if (batches_ == lists_.size()) lists_.push_back(nullptr);
+  std::unique_ptr<Lists>& lists = lists_[batches_];
+  const vk::DeviceSize lightBytes = std::max<std::size_t>(batch_.size(), 1) * sizeof(shared::ShadeLight);
+  const vk::DeviceSize tileBytes = tiles_.size() * sizeof(std::uint32_t);
+  if (!lists || lists->lights.size() < lightBytes || lists->tiles.size() < tileBytes) {
+    constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer;
+    lists = std::make_unique<Lists>(Lists{gpu::Buffer(context_, lightBytes, kUsage, "shade batch lights"),
+                                          gpu::Buffer(context_, tileBytes, kUsage, "shade batch tiles")});
+  }
+  lists->lights.upload(std::span<const shared::ShadeLight>(batch_));
+  lists->tiles.upload(std::span<const std::uint32_t>(tiles_));
+  const bool sum = batches_ > 0;
+  if (!last && !direct_) {
+    direct_ = std::make_unique<gpu::Buffer>(context_, vk::DeviceSize(width) * height * sizeof(glm::vec4),
+                                            vk::BufferUsageFlagBits::eStorageBuffer, "direct light");
+  }
+  // The first batch writes every pixel's sum, a later one adds over its lights' rectangles only,
+  // the last writes the image.
+  glm::uvec4 rect(0u, 0u, width, height);
+  if (sum && !last) {
+    rect = glm::uvec4(width, height, 0u, 0u);
+    for (const shared::ShadeLight& light : batch_) {
+      rect = glm::uvec4(glm::min(glm::uvec2(rect), glm::uvec2(light.rect)),
+                        glm::max(glm::uvec2(rect.z, rect.w), glm::uvec2(light.rect.z, light.rect.w)));
+    }
+  }
+  if (rect.z > rect.x && rect.w > rect.y) {
+    shared::ShadePush push{};
+    push.origin = glm::uvec2(rect);
+    push.term = std::uint32_t(Term::Shadow);  // the methods that take several lights
+    push.batched = 1u;
+    push.last = last ? 1u : 0u;
+    push.sum = sum ? 1u : 0u;
+    push.tilesX = tilesX;
+    // no indirect term; the direct sum only where a batch before wrote it (any buffer will do else)
+    const gpu::Buffer& direct = direct_ ? *direct_ : *batchVisibility_;
+    dispatch(cmd, gbuffer, frame, *batchVisibility_, direct, direct, color, lists->lights, lists->tiles, push, rect);
+  }
+  ++batches_;
+  batch_.clear();
+  batchFloats_ = 0;
+  if (!last) {  // the next lights' copies overwrite what this pass reads
+    gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead,
+                       vk::PipelineStageFlagBits2::eAllTransfer, vk::AccessFlagBits2::eTransferWrite);
+  }
 }
 
 void ShadePass::dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,

@@ -91,7 +91,7 @@ TEST(ManyLights, BatchesAddEveryLightOnce) {
   part.intensity /= 32.0f;
   const std::vector<Light> parts(32, part);
   const Frame sum = run.renderer->render("frt", run.camera, parts);
-  EXPECT_EQ(sum.stats.counts.at("shade_batches"), 2u) << "batches of " << FrameContext::kShadeBatchImages << " images";
+  EXPECT_EQ(sum.stats.counts.at("shade_batches"), 2u) << "batches of " << ShadePass::kBatchImages << " images";
   int worst = 0;
   std::size_t differ = 0;
   for (std::size_t i = 0; i < light.rgba.size(); ++i) {
