@@ -39,6 +39,10 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
       classify_(context),
       compact_(context, settings.width, settings.height),
       lightFit_(context),
+      lightsFrame_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "lights trace frame"),
+      lightsCount_(context, sizeof(shared::TraceCount),
+                   vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eIndirectBuffer,
+                   "lights trace count"),
       frameBuffer_(context, sizeof(shared::FrameData), vk::BufferUsageFlagBits::eStorageBuffer, "frame data"),
       visibility_(context, pixels(settings) * sizeof(float),
                   vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst |
@@ -222,15 +226,89 @@ void FrameContext::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameS
   stats.triangleTests = report.triangleTests;
 }
 
-void FrameContext::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
-  // Every tile's pixels of the light's rectangle (trace_points.glsl), in rows of as many workgroups
-  // as the device dispatches (tracePointIndex).
-  const glm::uvec4 rect = lightRect();
+shared::TraceCount FrameContext::inPlaceCount(const glm::uvec4& rect) const {
+  // Every tile's pixels of the rectangle (trace_points.glsl), in rows of as many workgroups as the
+  // device dispatches (tracePointIndex).
   const std::uint32_t items = shared::compactItems(rect.z - rect.x, rect.w - rect.y);
   const std::uint32_t groups = (items + TRACE_GROUP_SIZE - 1) / TRACE_GROUP_SIZE;
   const std::uint32_t row =
       std::max(1u, std::min(groups, context_.physicalDevice().getProperties().limits.maxComputeWorkGroupCount[0]));
-  recordTraceCount(cmd, {items, row, (groups + row - 1) / row, 1});
+  return {items, row, (groups + row - 1) / row, 1};
+}
+
+void FrameContext::recordInPlaceCount(const vk::raii::CommandBuffer& cmd) {
+  recordTraceCount(cmd, inPlaceCount(lightRect()));
+}
+
+bool FrameContext::tracesWithLights(const ShadowTracer& tracer) const {
+  return settings_.oneLightsTrace && slot_.count > 1 && term_ == Term::Shadow && tracer.onDevice() &&
+         !settings_.simulateBandwidth && frameData_.blockers == glm::uvec2(0u);
+}
+
+void FrameContext::traceWithLights(ShadowTracer& tracer, FrameStats& stats) {
+  if (lightsTracer_ && lightsTracer_ != &tracer) throw std::logic_error("a frame's lights are traced by one tracer");
+  lightsTracer_ = &tracer;
+  if (!gbufferRecorded_) {  // the frame's first light
+    context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordGBuffer(cmd); });
+    gbufferRecorded_ = true;
+  }
+  frameData_.traceInPlace = 1u;  // every covered pixel of its rectangle (readBack)
+  tracedWithLights_ = true;
+  stats.tracer = tracer.name();
+}
+
+void FrameContext::shadeBatch(bool last, FrameStats& stats) {
+  const bool traces = shade_.batchTraces();
+  const ShadePass::BatchLists lists = shade_.prepareBatch(settings_.width, settings_.height);
+  std::optional<TraceJob> job;
+  if (traces) {  // its traced lights' trace: every pixel of their tiles, each to its tile's lights
+    shared::FrameData data = frameData_;
+    data.traceInPlace = 1u;
+    data.spp = methodSpp_;  // each light takes as many of them as it needs
+    data.blockers = glm::uvec2(0u);
+    data.lightRectMin = glm::uvec2(lists.traced);
+    data.lightRectMax = glm::uvec2(lists.traced.z, lists.traced.w);
+    data.traceLights = gpu::addressHalves(lists.lists.lights);
+    data.traceTiles = gpu::addressHalves(lists.lists.tiles);
+    data.traceTilesX = lists.tilesX;
+    lightsFrame_.upload(std::span<const shared::FrameData>(&data, 1));
+    const shared::TraceCount count = inPlaceCount(lists.traced);
+    lightsCount_.upload(std::span<const shared::TraceCount>(&count, 1));
+    job.emplace(TraceJob{compact_.points(), lightsCount_, lightsFrame_, shade_.batchVisibility(),
+                         gbuffer_.position().view(), gbuffer_.normal().view()});
+  }
+  context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    if (job) {
+      timer_.begin(cmd, "trace");
+      lightsTracer_->record(cmd, *job);
+      timer_.end(cmd);
+    }
+    timer_.begin(cmd, "shade");
+    shade_.recordBatch(cmd, gbuffer_, frameBuffer_, color_, last);
+    timer_.end(cmd);
+  });
+  if (!job) return;
+  const TraceReport report = lightsTracer_->finish(*job);
+  auto add = [](std::optional<std::uint64_t>& to, const std::optional<std::uint64_t>& count) {
+    if (count) to = to.value_or(0) + *count;
+  };
+  add(stats.nodeVisits, report.nodeVisits);  // the batch's lights' traversal, counted where it ran
+  add(stats.triangleTests, report.triangleTests);
+  for (ShadePass::TracedLight& light : shade_.tracedLights()) tracedLights_.push_back(std::move(light));
+}
+
+void FrameContext::settleTracedLights(std::vector<Frame>& frames) {
+  for (const ShadePass::TracedLight& light : tracedLights_) {
+    Frame& frame = frames.at(light.index);
+    frame.visibility.assign(std::size_t(settings_.width) * settings_.height, 0.0f);
+    const glm::uvec4& r = light.rect;
+    for (std::uint32_t y = r.y; y < r.w && !light.visibility.empty(); ++y) {
+      const auto row = light.visibility.begin() + std::ptrdiff_t(y - r.y) * (r.z - r.x);
+      std::copy(row, row + (r.z - r.x), frame.visibility.begin() + std::ptrdiff_t(y) * settings_.width + r.x);
+    }
+    frame.stats.raysTraced = light.rays;
+  }
+  tracedLights_.clear();
 }
 
 void FrameContext::recordTraceList(const vk::raii::CommandBuffer& cmd, TraceList list, FrameStats& stats) {
@@ -329,6 +407,13 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   slot_ = slot;
   term_ = method.term();
   shadeRecorded_ = false;
+  joinedBatch_ = false;
+  tracedWithLights_ = false;
+  if (slot.order == 0) {
+    lightsTracer_ = nullptr;
+    tracedLights_.clear();
+    if (slot.count > 1) shade_.beginLights(slot.count, settings_.width, settings_.height);
+  }
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
   frameData_.light.sampleFrame = frame;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
@@ -350,7 +435,8 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameData_.cameraPosition = glm::vec4(camera.eye, 1.0f);
   frameData_.width = settings_.width;
   frameData_.height = settings_.height;
-  frameData_.spp = shared::lightSampleCount(frameData_.light, method.samplesPerPixel(settings_));
+  methodSpp_ = method.samplesPerPixel(settings_);
+  frameData_.spp = shared::lightSampleCount(frameData_.light, methodSpp_);
   frameData_.shadowFilter = method.shadowFilter(settings_);
   if (frameData_.light.range > 0.0f && frameData_.light.type != LIGHT_DIRECTIONAL) {
     glm::uvec4 rect = screenRect(view_, glm::vec3(frameData_.light.position), frameData_.light.range, settings_.width,
@@ -460,18 +546,54 @@ void FrameContext::recordShade(const vk::raii::CommandBuffer& cmd) {
                      Access::eShaderStorageWrite | Access::eTransferWrite, Stage::eComputeShader | Stage::eAllTransfer,
                      Access::eShaderStorageRead | Access::eTransferRead);
   timer_.begin(cmd, "shade");
-  shadeRecorded_ = true;
   if (slot_.count == 1) {
     shade_.record(cmd, gbuffer_, frameBuffer_, visibility_, indirect_, color_, term_);
+    shadeRecorded_ = true;
   } else {
-    shade_.recordLight(cmd, gbuffer_, frameBuffer_, visibility_, color_, frameData_.light, lightRect(), slot_.order,
-                       slot_.count);
+    // A full batch is shaded first, here where it traces nothing (else shade() does, in a submission
+    // of its own, so that its trace's counters are not this light's trace's).
+    const glm::uvec4 rect = lightRect();
+    const bool fits = shade_.fits(rect);
+    if (fits || !shade_.batchTraces()) {
+      if (!fits) {
+        shade_.prepareBatch(settings_.width, settings_.height);
+        shade_.recordBatch(cmd, gbuffer_, frameBuffer_, color_, false);
+      }
+      shade_.recordLight(cmd, visibility_, frameData_.light, rect, slot_.index);
+      joinedBatch_ = true;
+      const bool last = slot_.order + 1 == slot_.count;
+      if (last && !shade_.batchTraces()) {
+        gpu::memoryBarrier(cmd, Stage::eAllTransfer, Access::eTransferWrite, Stage::eComputeShader,
+                           Access::eShaderStorageRead);
+        shade_.prepareBatch(settings_.width, settings_.height);
+        shade_.recordBatch(cmd, gbuffer_, frameBuffer_, color_, true);
+      }
+      shadeRecorded_ = !last || !shade_.batchTraces();
+    }
   }
   timer_.end(cmd);
 }
 
-void FrameContext::shade() {
-  if (!shadeRecorded_) context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordShade(cmd); });
+void FrameContext::shade(FrameStats& stats) {
+  if (shadeRecorded_) return;
+  if (slot_.count == 1) {
+    context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordShade(cmd); });
+    return;
+  }
+  if (!joinedBatch_) {
+    const glm::uvec4 rect = lightRect();
+    if (!shade_.fits(rect)) shadeBatch(false, stats);
+    if (!tracedWithLights_) {
+      context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordShade(cmd); });
+    } else if (rect.z > rect.x && rect.w > rect.y) {
+      shade_.addTracedLight(frameData_.light, rect, slot_.index);
+    } else {  // it reaches no pixel
+      tracedLights_.push_back({slot_.index, rect, {}, 0});
+    }
+    joinedBatch_ = true;
+  }
+  if (!shadeRecorded_ && slot_.order + 1 == slot_.count) shadeBatch(true, stats);
+  shadeRecorded_ = true;
 }
 
 Frame FrameContext::readBack(const Method& method, FrameStats stats) {
@@ -489,7 +611,9 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
   }
   frame.covered = covered_;
   const std::size_t pixels = covered_.size();
-  if (method.term() == Term::Shadow) {
+  if (tracedWithLights_) {
+    // its visibility comes with its batch's trace (settleTracedLights)
+  } else if (method.term() == Term::Shadow) {
     frame.visibility = visibility_.download<float>(pixels);
   } else {  // the frame's term: ao = 1 - occlusion, indirect = the mean of rgb
     const auto light = indirect_.download<glm::vec4>(pixels);

@@ -87,10 +87,15 @@ class FrameContext {
   // beyond it the light reaches nothing, so no pass of it need run there (FrameData::lightRectMin/Max).
   glm::uvec4 lightRect() const;
   // After Method::run: this light's shading (ShadePass) in a submission of its own, unless the
-  // method recorded it in its last one (recordShade).
-  void shade();
+  // method recorded it in its last one (recordShade); a frame of several lights shades a batch of
+  // them where it is full and after its last light, tracing the batch's traced lights first
+  // (traceWithLights; the trace's counters join stats).
+  void shade(FrameStats& stats);
   // With the shaded image where this is the frame's last light (the others have none of their own).
   Frame readBack(const Method& method, FrameStats stats);
+  // After readBack: the visibility and rays of the lights that traceWithLights traced since the last
+  // call (their batches were shaded), into frames (by light index).
+  void settleTracedLights(std::vector<Frame>& frames);
   // Renderer::sceneMoved: re-uploads the moving meshes and refits the built tracers.
   void sceneMoved();
   std::uint64_t sceneVersion() const { return sceneVersion_; }  // counts sceneMoved() calls
@@ -138,6 +143,13 @@ class FrameContext {
   // After the submission that traced `job`: refuses a list that overflowed, collects the tracer's
   // report into stats (pixels listed, rays, traversal counts, host time).
   void finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameStats& stats);
+  // A frame of several lights on a GPU tracer (--lights-trace one): this light's trace of every
+  // covered pixel can join the one trace of its batch of lights (traceWithLights).
+  bool tracesWithLights(const ShadowTracer& tracer) const;
+  // Instead of a trace of its own (TraceList::EveryCovered): the light joins its batch's trace, one
+  // dispatch over the batch's traced lights, each pixel to each light its tile lists (trace_points.glsl),
+  // recorded when the batch is shaded (shade()); settleTracedLights gives its visibility and rays.
+  void traceWithLights(ShadowTracer& tracer, FrameStats& stats);
 
   // Records the camera pass with its timer scope (every method starts with it).
   void recordGBuffer(const vk::raii::CommandBuffer& cmd);
@@ -164,6 +176,9 @@ class FrameContext {
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
+  shared::TraceCount inPlaceCount(const glm::uvec4& rect) const;  // every tile's pixels of rect
+  // Shades the batch of lights (ShadePass) in a submission of its own, its traced lights' trace first.
+  void shadeBatch(bool last, FrameStats& stats);
   // Writes the trace list's count and dispatch size, ordered after earlier uses and before the next.
   void recordTraceCount(const vk::raii::CommandBuffer& cmd, const shared::TraceCount& count);
 
@@ -185,8 +200,15 @@ class FrameContext {
   };
   std::vector<Clearance> clearances_;  // one per light position of the frame, while the scene stays
   LightSlot slot_;
-  Term term_ = Term::Shadow;      // the method's (begin)
-  bool shadeRecorded_ = false;    // this light's shading, by recordShade
+  Term term_ = Term::Shadow;       // the method's (begin)
+  bool shadeRecorded_ = false;     // this light's shading, by recordShade (several lights: it joined the batch, and the
+                                   // last one's is shaded)
+  bool joinedBatch_ = false;       // several lights: this light joined the shading batch
+  bool tracedWithLights_ = false;  // this light's visibility is the batch trace's (traceWithLights)
+  ShadowTracer* lightsTracer_ = nullptr;              // the tracer of the frame's traceWithLights
+  std::vector<ShadePass::TracedLight> tracedLights_;  // since settleTracedLights
+  gpu::Buffer lightsFrame_, lightsCount_;             // the batch trace's FrameData and TraceCount
+  std::uint32_t methodSpp_ = 1;                       // the method's light samples per pixel (area lights take them)
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;

@@ -26,6 +26,10 @@ const Options<RenderSettings>& renderOptions() {
     o.group("Ray tracing");
     o.number("--ray-epsilon", "ray_epsilon", &S::rayEpsilon, "Shadow ray origin offset, fraction of the scene radius",
              0.0f);
+    o.choice("--lights-trace", "lights_trace", &S::oneLightsTrace,
+             "A frame of several lights on a GPU tracer: frt (and srt where it traces every covered pixel) traces its "
+             "lights in one dispatch per batch of lights (one), or each light in a dispatch of its own (each)",
+             {{"one", true}, {"each", false}});
     o.flag("--simulate-bandwidth", "simulate_bandwidth", &S::simulateBandwidth,
            "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
     o.group("Selective ray tracing (srt)");

@@ -35,6 +35,10 @@ struct RenderSettings {
   // finer texels halve PIP but let srt miss more along grazing edges, bench/results/passes.md).
   bool fitLightToView = false;
   bool simulateBandwidth = false;    // srt/frt on the bvh tracer: replay the trace for its memory traffic (raytrace/bandwidth_model.h)
+  // --lights-trace: a frame of several lights on a GPU tracer traces every covered pixel of the
+  // lights that take that path in one dispatch per batch of lights (FrameContext::traceWithLights),
+  // not one per light.
+  bool oneLightsTrace = true;
   // A frame whose light map would be the last one's (same map placement, geometry unmoved) keeps
   // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
   // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.

@@ -103,9 +103,10 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
     const auto start = std::chrono::steady_clock::now();
     if (method->readsShadowMap()) frameContext_->fitLightToView(stats);
     method->run(*frameContext_, stats);
-    frameContext_->shade();
+    frameContext_->shade(stats);
     stats.totalMs = msSince(start);
     frames[reaching[k]] = frameContext_->readBack(*method, std::move(stats));
+    frameContext_->settleTracedLights(frames);
   }
   if (lights.size() == 1) return std::move(frames.front());
   Frame& shaded = frames[reaching.back()];

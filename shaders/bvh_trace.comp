@@ -26,9 +26,7 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax, out f
 }
 
 void main() {
-  uint index = tracePointIndex();
   uint rays = 0u;
-  ShadingPoint point;
-  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, frame.blockers, rays);
+  traceShadows(rays);
   bvhAddCounters(rays);
 }

@@ -52,10 +52,8 @@ bool shadowOccluded(ShadingPoint point, vec3 origin, vec3 dir, float tMax, out f
 }
 
 void main() {
-  uint index = tracePointIndex();
   uint rays = 0u;
-  ShadingPoint point;
-  if (tracePoint(index, point)) visibility[point.pixel] = shadowVisibility(point, frame.light, frame.blockers, rays);
+  traceShadows(rays);
 #ifndef LS_MOVING_RAY_QUERY
   lsNodeVisits += bvhNodeVisits;  // the dynamic BVH's visits and tests count too
   lsTriangleTests += bvhTriangleTests;

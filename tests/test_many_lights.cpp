@@ -103,6 +103,48 @@ TEST(ManyLights, BatchesAddEveryLightOnce) {
   expectValidationSilent();
 }
 
+// --lights-trace one: frt's lights traced in one dispatch per batch give each light's own trace bit
+// for bit (visibility and rays, so the image too), on every GPU tracer, over two batches (20
+// whole-image lights, one of them an area light: 16 in the first) and over the street's lamps, whose
+// rectangles are parts of the image.
+TEST(ManyLights, OneTraceForTheLightsIsEachLightsOwn) {
+  std::vector<std::string> tracers = {"bvh", "ls"};
+  if (validatedContext().rayQuery()) tracers.push_back("rq");
+  for (const std::string& tracer : tracers) {
+    for (const char* scene : {"builtin:courtyard", "builtin:street:16"}) {
+      RenderSettings settings = smallSettings(96);
+      settings.tracer = tracer;
+      settings.spp = 4;
+      SceneRun one(scene, settings);
+      settings.oneLightsTrace = false;
+      SceneRun each(scene, settings);
+      std::vector<Light> lights = one.scene.lights;
+      if (lights.size() == 1) {
+        Light part = lights.front();
+        part.intensity /= 20.0f;
+        lights.assign(20, part);
+        lights[7] = parseLight("disk:6,12,4:0,0,0");  // not every light alike: an area light's samples
+        lights[7].size = 1.5f;
+        lights[7].intensity = part.intensity;
+      }
+      const Frame a = one.renderer->render("frt", one.camera, lights);
+      const Frame b = each.renderer->render("frt", each.camera, lights);
+      const std::string what = tracer + " " + scene;
+      ASSERT_EQ(a.lights.size(), lights.size()) << what;
+      std::uint64_t rays = 0;
+      for (std::size_t i = 0; i < lights.size(); ++i) {
+        EXPECT_EQ(a.lights[i].visibility, b.lights[i].visibility) << what << " light " << i;
+        EXPECT_EQ(a.lights[i].stats.raysTraced, b.lights[i].stats.raysTraced) << what << " light " << i;
+        rays += a.lights[i].stats.raysTraced.value_or(0);
+      }
+      EXPECT_GT(rays, 0u) << what;
+      EXPECT_EQ(a.rgba, b.rgba) << what;
+      if (lights.size() == 20) EXPECT_EQ(a.stats.counts.at("shade_batches"), 2u) << what;
+    }
+  }
+  expectValidationSilent();
+}
+
 // srt and sm per light against the reference's same light: srt within the hard-shadow bound on
 // every light; sm, the map alone, wrong on more pixels.
 TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {

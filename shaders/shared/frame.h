@@ -49,6 +49,15 @@ struct FrameData {
   // there without reading the G-buffer. lightRectMax (0, 0): the whole image.
   uvec2 lightRectMin;
   uvec2 lightRectMax;
+  // A trace of a batch of lights (frames of several lights, hybrid/shade_pass.h; trace_points.glsl):
+  // the batch's ShadeLight list and its SHADE_TILE tile lists, by address. The trace takes every
+  // pixel of the light rectangle above in place (a whole number of tiles from a tile's corner) and
+  // traces it to each light its tile lists that the batch traces, into the batch's visibility.
+  // (0, 0): FrameData's light alone.
+  uvec2 traceLights;
+  uvec2 traceTiles;
+  uint traceTilesX;  // tiles per row of the lists
+  uint pad0, pad1, pad2;
 };
 
 PN_FN bool inLightRect(uvec2 lo, uvec2 hi, uint x, uint y) {

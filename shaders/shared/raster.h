@@ -37,7 +37,9 @@ struct ShadeLight {  // std430, 128 bytes
   GpuLight light;
   uvec4 rect;   // pixels [xy, zw)
   uint offset;  // of pixel rect.xy in the batch's visibility
-  uint pad0, pad1, pad2;
+  uint traced;  // 1: the batch's trace writes its visibility (FrameData::traceLights), 0: copied there
+  uint rays;    // the batch's trace adds the rays it traced to the light
+  uint index;   // the light's index among the frame's lights
 };
 
 // Push constants of the shading pass: the method's term (hybrid/method.h Term: 0 shadow, 1 ao,
