@@ -294,16 +294,31 @@ void FrameContext::shadeBatch(bool last, FrameStats& stats) {
   };
   add(stats.nodeVisits, report.nodeVisits);  // the batch's lights' traversal, counted where it ran
   add(stats.triangleTests, report.triangleTests);
-  for (ShadePass::TracedLight& light : shade_.tracedLights()) tracedLights_.push_back(std::move(light));
+  for (const ShadePass::TracedLight& light : shade_.tracedLights()) tracedLights_.push_back({light, std::nullopt});
+}
+
+namespace {
+std::size_t rectArea(const glm::uvec4& r) { return r.z > r.x && r.w > r.y ? std::size_t(r.z - r.x) * (r.w - r.y) : 0; }
+}  // namespace
+
+void FrameContext::keepTracedLights() {
+  const auto* batch = static_cast<const float*>(shade_.batchVisibility().data());
+  for (TracedLight& traced : tracedLights_) {
+    if (!traced.kept)
+      traced.kept.emplace(batch + traced.light.offset, batch + traced.light.offset + rectArea(traced.light.rect));
+  }
 }
 
 void FrameContext::settleTracedLights(std::vector<Frame>& frames) {
-  for (const ShadePass::TracedLight& light : tracedLights_) {
+  for (const TracedLight& traced : tracedLights_) {
+    const ShadePass::TracedLight& light = traced.light;
     Frame& frame = frames.at(light.index);
     frame.visibility.assign(std::size_t(settings_.width) * settings_.height, 0.0f);
+    const float* rows =
+        traced.kept ? traced.kept->data() : static_cast<const float*>(shade_.batchVisibility().data()) + light.offset;
     const glm::uvec4& r = light.rect;
-    for (std::uint32_t y = r.y; y < r.w && !light.visibility.empty(); ++y) {
-      const auto row = light.visibility.begin() + std::ptrdiff_t(y - r.y) * (r.z - r.x);
+    for (std::uint32_t y = r.y; y < r.w && rectArea(r) > 0; ++y) {
+      const float* row = rows + std::size_t(y - r.y) * (r.z - r.x);
       std::copy(row, row + (r.z - r.x), frame.visibility.begin() + std::ptrdiff_t(y) * settings_.width + r.x);
     }
     frame.stats.raysTraced = light.rays;
@@ -582,13 +597,16 @@ void FrameContext::shade(FrameStats& stats) {
   }
   if (!joinedBatch_) {
     const glm::uvec4 rect = lightRect();
-    if (!shade_.fits(rect)) shadeBatch(false, stats);
+    if (!shade_.fits(rect)) {
+      shadeBatch(false, stats);
+      keepTracedLights();  // this light and the next batch write the batch buffer before the settling
+    }
     if (!tracedWithLights_) {
       context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { recordShade(cmd); });
     } else if (rect.z > rect.x && rect.w > rect.y) {
       shade_.addTracedLight(frameData_.light, rect, slot_.index);
     } else {  // it reaches no pixel
-      tracedLights_.push_back({slot_.index, rect, {}, 0});
+      tracedLights_.push_back({{slot_.index, rect, 0, 0}, std::vector<float>{}});
     }
     joinedBatch_ = true;
   }

@@ -205,10 +205,17 @@ class FrameContext {
                                    // last one's is shaded)
   bool joinedBatch_ = false;       // several lights: this light joined the shading batch
   bool tracedWithLights_ = false;  // this light's visibility is the batch trace's (traceWithLights)
-  ShadowTracer* lightsTracer_ = nullptr;              // the tracer of the frame's traceWithLights
-  std::vector<ShadePass::TracedLight> tracedLights_;  // since settleTracedLights
-  gpu::Buffer lightsFrame_, lightsCount_;             // the batch trace's FrameData and TraceCount
-  std::uint32_t methodSpp_ = 1;                       // the method's light samples per pixel (area lights take them)
+  ShadowTracer* lightsTracer_ = nullptr;  // the tracer of the frame's traceWithLights
+  // Since settleTracedLights: the lights traceWithLights traced, each with its visibility over its
+  // rectangle, kept (keepTracedLights) where the batch buffer was to be written before the settling.
+  struct TracedLight {
+    ShadePass::TracedLight light;
+    std::optional<std::vector<float>> kept;
+  };
+  std::vector<TracedLight> tracedLights_;
+  void keepTracedLights();
+  gpu::Buffer lightsFrame_, lightsCount_;  // the batch trace's FrameData and TraceCount
+  std::uint32_t methodSpp_ = 1;            // the method's light samples per pixel (area lights take them)
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;

@@ -183,12 +183,9 @@ std::vector<ShadePass::TracedLight> ShadePass::tracedLights() const {
   std::vector<TracedLight> out;
   if (!shaded_) return out;
   const auto* lights = static_cast<const shared::ShadeLight*>(shaded_->lights.data());
-  const auto* visibility = static_cast<const float*>(batchVisibility_->data());
   for (std::size_t k = 0; k < shadedLights_; ++k) {
     const shared::ShadeLight& light = lights[k];
-    if (light.traced == 0u) continue;
-    const float* first = visibility + light.offset;
-    out.push_back({light.index, light.rect, std::vector<float>(first, first + area(light.rect)), light.rays});
+    if (light.traced != 0u) out.push_back({light.index, light.rect, light.rays, light.offset});
   }
   return out;
 }

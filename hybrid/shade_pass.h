@@ -49,13 +49,14 @@ class ShadePass {
   // direct light so far; empties the batch.
   void recordBatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
                    const gpu::Buffer& color, bool last);
-  // After the submission of a batch that traced: each traced light's index, rectangle, visibility
-  // over it (row by row) and rays.
+  // After the submission of a batch that traced: each traced light's index, rectangle, rays, and
+  // where its visibility over the rectangle lies in batchVisibility() (row by row) until the batch
+  // buffer is written again.
   struct TracedLight {
     std::uint32_t index;
     glm::uvec4 rect;
-    std::vector<float> visibility;
     std::uint64_t rays;
+    std::uint32_t offset;
   };
   std::vector<TracedLight> tracedLights() const;
   // Light visibilities a batch holds at most, in images: more lights take more batches.
