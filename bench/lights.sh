@@ -4,8 +4,8 @@
 # reference of every lamp, 512^2, --tracer bvh. Per row: the frame's time and its passes summed over
 # the lamps, the lamps the view reaches (the others are culled), rays, PIP, the worst lamp's wrong
 # pixels and pip_miss against the reference's same lamp, the shaded image's rmse, the maps' texels,
-# and the frame's cost over the same street lit by its first lamp alone. Release build, warm-up 1,
-# median of REPEAT.
+# and the frame's cost over the same street lit by its first lamp alone; the largest street again with
+# a trace dispatch per lamp (--lights-trace each). Release build, warm-up 1, median of REPEAT.
 # Writes bench/results/lights.{csv,md} and lights.machine.txt.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -29,6 +29,10 @@ for n in $LAMPS; do
   ./build/bin/penumbra compare --scene "builtin:street:$n" --lights "$runs/one$n.json" --methods sm,srt,frt --tracer bvh \
     --res "$RES" --warmup 1 --repeat "$REPEAT" --no-report --out "$runs/one$n" | tail -n 4
 done
+# the largest street again with a trace dispatch per lamp (--lights-trace each): one trace for the lamps, or each its own
+last=${LAMPS##* }
+./build/bin/penumbra compare --scene "builtin:street:$last" --methods srt,frt --tracer bvh --res "$RES" --warmup 1 \
+  --repeat "$REPEAT" --lights-trace each --no-report --out "$runs/each$last" | tail -n 3
 
 echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(./build/bin/penumbra device 2>/dev/null | grep -m1 '"driver"' | cut -d'"' -f4)" |
   tee bench/results/lights.machine.txt
@@ -37,9 +41,10 @@ import csv, json, os, sys
 runs, counts, res = sys.argv[1], sys.argv[2].split(), sys.argv[3]
 rows, alone = [], {}
 for n in counts:
-    for run, lit in ((n, "all"), ("one" + n, "first")):
+    runs_of = [(n, "all"), ("one" + n, "first")] + ([("each" + n, "each")] if n == counts[-1] else [])
+    for run, lit in runs_of:
         m = json.load(open(os.path.join(runs, run, "metrics.json")))
-        for s in [m["reference"]] + m["methods"]:
+        for s in ([m["reference"]] if lit != "each" else []) + m["methods"]:
             lights = s.get("lights") or [s]
             t = s["time_ms"]
             if lit == "first":
@@ -51,7 +56,7 @@ for n in counts:
                 return max(v) if v else None
             wrong = [l["error"]["wrong_pixel_fraction"] for l in lights if l.get("error")]
             rows.append({
-                "lamps": int(n), "method": s["method"], "reached": reached, "total_ms": t["total"],
+                "lamps": int(n), "method": s["method"] + (" (each)" if lit == "each" else ""), "reached": reached, "total_ms": t["total"],
                 "shadow_map_ms": t.get("shadow_map", 0.0), "lookup_ms": t.get("lookup", 0.0),
                 "classify_ms": t.get("classify", 0.0) + t.get("thin_pass", 0.0), "trace_ms": t.get("trace", 0.0),
                 "gbuffer_ms": t.get("gbuffer", 0.0), "shade_ms": t.get("shade", 0.0),
@@ -60,7 +65,7 @@ for n in counts:
                 "image_rmse": (s.get("image_error") or {}).get("rmse"),
                 "map_texels": (s.get("counts") or {}).get("shadow_map_texels", 0)})
 for r in rows:
-    r["first_lamp_alone_ms"] = alone[(r["lamps"], r["method"])]
+    r["first_lamp_alone_ms"] = alone[(r["lamps"], r["method"].split(" ")[0])]
 out = "bench/results/lights.csv"
 with open(out, "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -74,7 +79,9 @@ with open("bench/results/lights.md", "w") as f:
             "of any lamp against the reference's same lamp. Map Mtexels: every lamp's shadow map summed (each lamp's "
             "resolution follows its range's footprint, `--light-map-res footprint`). First lamp alone: the same "
             "method's frame of the same street lit by its first lamp only (a lights file of it); × alone: the frame's "
-            "time over it.\n\n")
+            "time over it. A frame of several lamps on a GPU tracer traces the lamps that trace every covered pixel (frt, and srt "
+            "where `--srt-choice auto` takes that path) in one dispatch per batch of lamps (`--lights-trace one`, the "
+            "default); rows `(each)`: a dispatch per lamp, in the same run.\n\n")
     f.write("| lamps | method | reached | total | shadow map | lookup | classify | trace | G-buffer | shade | rays | PIP % | "
             "worst lamp wrong % | worst pip_miss % | image rmse | map Mtexels | first lamp alone | × alone |\n")
     f.write("|" + "---|" * 18 + "\n")
