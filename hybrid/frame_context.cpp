@@ -313,6 +313,8 @@ void FrameContext::settleTracedLights(std::vector<Frame>& frames) {
   for (const TracedLight& traced : tracedLights_) {
     const ShadePass::TracedLight& light = traced.light;
     Frame& frame = frames.at(light.index);
+    frame.stats.raysTraced = light.rays;
+    if (std::find(withoutBuffers_.begin(), withoutBuffers_.end(), light.index) != withoutBuffers_.end()) continue;
     frame.visibility.assign(std::size_t(settings_.width) * settings_.height, 0.0f);
     const float* rows =
         traced.kept ? traced.kept->data() : static_cast<const float*>(shade_.batchVisibility().data()) + light.offset;
@@ -321,7 +323,6 @@ void FrameContext::settleTracedLights(std::vector<Frame>& frames) {
       const float* row = rows + std::size_t(y - r.y) * (r.z - r.x);
       std::copy(row, row + (r.z - r.x), frame.visibility.begin() + std::ptrdiff_t(y) * settings_.width + r.x);
     }
-    frame.stats.raysTraced = light.rays;
   }
   tracedLights_.clear();
 }
@@ -427,6 +428,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   if (slot.order == 0) {
     lightsTracer_ = nullptr;
     tracedLights_.clear();
+    withoutBuffers_.clear();
     if (slot.count > 1) shade_.beginLights(slot.count, settings_.width, settings_.height);
   }
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
@@ -627,10 +629,12 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     for (std::size_t i = 0; i < positions.size(); ++i) covered_[i] = positions[i].w != 0.0f;
     coveredRead_ = true;
   }
-  frame.covered = covered_;
+  const bool last = slot_.order + 1 == slot_.count;
+  if (slot_.buffers || last) frame.covered = covered_;  // the last light's is the frame's
+  if (!slot_.buffers) withoutBuffers_.push_back(slot_.index);
   const std::size_t pixels = covered_.size();
-  if (tracedWithLights_) {
-    // its visibility comes with its batch's trace (settleTracedLights)
+  if (tracedWithLights_ || !slot_.buffers) {
+    // none, or its batch's trace's (settleTracedLights)
   } else if (method.term() == Term::Shadow) {
     frame.visibility = visibility_.download<float>(pixels);
   } else {  // the frame's term: ao = 1 - occlusion, indirect = the mean of rgb
@@ -640,20 +644,20 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
       frame.visibility[i] = method.term() == Term::Ao ? 1.0f - light[i].a : (light[i].r + light[i].g + light[i].b) / 3.0f;
     }
   }
-  if (slot_.order + 1 == slot_.count) {
+  if (last) {
     frame.rgba = color_.download<std::uint8_t>(pixels * 4);
     if (slot_.count > 1) {
       stats.counts["shade_batches"] = shade_.batches();
       stats.memoryBytes["light_visibilities"] = shade_.batchBytes();
     }
   }
-  const std::uint64_t covered = std::count(frame.covered.begin(), frame.covered.end(), std::uint8_t(1));
+  const std::uint64_t covered = std::count(covered_.begin(), covered_.end(), std::uint8_t(1));
   if (frameData_.traceInPlace) {  // every covered pixel of the light's rectangle, read from the G-buffer
     const glm::uvec4 rect = lightRect();
     std::uint64_t traced = 0;
     for (std::uint32_t y = rect.y; y < rect.w; ++y) {
-      traced += std::count(frame.covered.begin() + y * frame.width + rect.x,
-                           frame.covered.begin() + y * frame.width + rect.z, std::uint8_t(1));
+      traced += std::count(covered_.begin() + y * frame.width + rect.x, covered_.begin() + y * frame.width + rect.z,
+                           std::uint8_t(1));
     }
     stats.pipPixels = traced;
   }
@@ -664,7 +668,7 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
                             "% of covered pixels: srt traces nearly every pixel, i.e. costs frt plus the map passes");
     }
   }
-  if (method.classifies()) {
+  if (method.classifies() && slot_.buffers) {
     const auto flags = traceFlags_.download<std::uint32_t>(pixels);
     frame.pip.assign(flags.begin(), flags.end());
     // The classification stored the sm answer again only where it flagged (the trace overwrites

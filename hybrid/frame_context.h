@@ -64,6 +64,7 @@ struct Frame {
 // turn: the first renders the G-buffer the others keep, the last writes the image.
 struct LightSlot {
   std::uint32_t index = 0, order = 0, count = 1;
+  bool buffers = true;  // readBack keeps its visibility, PIP flags and sm answer (Renderer::keepLightBuffers)
 };
 
 class FrameContext {
@@ -213,6 +214,7 @@ class FrameContext {
     std::optional<std::vector<float>> kept;
   };
   std::vector<TracedLight> tracedLights_;
+  std::vector<std::uint32_t> withoutBuffers_;  // the frame's lights readBack keeps no buffers of
   void keepTracedLights();
   gpu::Buffer lightsFrame_, lightsCount_;  // the batch trace's FrameData and TraceCount
   std::uint32_t methodSpp_ = 1;            // the method's light samples per pixel (area lights take them)

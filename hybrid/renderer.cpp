@@ -95,11 +95,14 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
   }
   if (reaching.empty()) reaching.push_back(0);  // one light shades the image
   std::vector<Frame> frames(lights.size());
+  std::vector<bool> reached(lights.size(), false);
   for (std::size_t k = 0; k < reaching.size(); ++k) {
     FrameStats stats;
     stats.method = methodName;
+    const bool buffers = !lightBuffersOf_ || k == 0 || reaching[k] == *lightBuffersOf_;
     frameContext_->begin(camera, lights[reaching[k]], *method, frame_, stats,
-                         {std::uint32_t(reaching[k]), std::uint32_t(k), std::uint32_t(reaching.size())});
+                         {std::uint32_t(reaching[k]), std::uint32_t(k), std::uint32_t(reaching.size()), buffers});
+    reached[reaching[k]] = true;
     const auto start = std::chrono::steady_clock::now();
     if (method->readsShadowMap()) frameContext_->fitLightToView(stats);
     method->run(*frameContext_, stats);
@@ -111,11 +114,12 @@ Frame Renderer::render(const std::string& methodName, const Camera& camera, std:
   if (lights.size() == 1) return std::move(frames.front());
   Frame& shaded = frames[reaching.back()];
   std::vector<std::uint8_t> covered = std::move(shaded.covered), rgba = std::move(shaded.rgba);
-  for (Frame& f : frames) {
-    if (!f.visibility.empty()) continue;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (reached[i]) continue;
+    Frame& f = frames[i];
     f.width = shaded.width;
     f.height = shaded.height;
-    f.visibility.assign(covered.size(), 0.0f);
+    if (!lightBuffersOf_ || i == *lightBuffersOf_) f.visibility.assign(covered.size(), 0.0f);
     f.stats.method = methodName;
     f.stats.notes.push_back("culled: the light's range does not reach the view");
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -32,6 +33,11 @@ class Renderer {
   // samples (shared::lightSampleOffset), the same for every method and the reference, so that
   // frames of a sequence see new samples and a temporal denoiser gathers them.
   void setFrame(std::uint32_t frame) { frame_ = frame; }
+  // A frame of several lights: the lights whose own buffers (visibility, PIP flags, the sm answer)
+  // Frame::lights keeps beside every light's stats: all (the default: metrics per light), or only
+  // the first the view reaches and light `light` (a view that shows one light's: reading back every
+  // light's whole-image buffers costs more than the frame on a CPU device).
+  void keepLightBuffers(std::optional<std::size_t> light) { lightBuffersOf_ = light; }
   std::uint64_t sceneVersion() const { return frameContext_->sceneVersion(); }  // counts sceneMoved() calls
   // What methods work with: the shared passes, buffers and tracers (tests inspect them here).
   FrameContext& frameContext() { return *frameContext_; }
@@ -40,6 +46,7 @@ class Renderer {
   std::unique_ptr<FrameContext> frameContext_;
   std::map<std::string, std::unique_ptr<Method>> methods_;  // one per name, kept: they may own GPU objects
   std::uint32_t frame_ = 0;
+  std::optional<std::size_t> lightBuffersOf_;  // keepLightBuffers
 };
 
 }  // namespace penumbra

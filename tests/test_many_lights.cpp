@@ -145,6 +145,32 @@ TEST(ManyLights, OneTraceForTheLightsIsEachLightsOwn) {
   expectValidationSilent();
 }
 
+// Renderer::keepLightBuffers: only the first lamp's and the kept lamp's buffers come back, every
+// lamp's stats still do, and the frame is the same.
+TEST(ManyLights, KeepsTheBuffersOfTheLightsAskedFor) {
+  SceneRun run("builtin:street:16", smallSettings(96));
+  const std::vector<Light>& lamps = run.scene.lights;
+  for (const char* method : {"frt", "srt"}) {
+    const Frame all = run.renderer->render(method, run.camera, lamps);
+    run.renderer->keepLightBuffers(5);
+    const Frame some = run.renderer->render(method, run.camera, lamps);
+    run.renderer->keepLightBuffers(std::nullopt);
+    ASSERT_EQ(some.lights.size(), lamps.size()) << method;
+    EXPECT_EQ(some.rgba, all.rgba) << method;
+    EXPECT_EQ(some.covered, all.covered) << method;
+    EXPECT_EQ(some.visibility, all.visibility) << method;
+    EXPECT_EQ(some.lights[5].visibility, all.lights[5].visibility) << method;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < lamps.size(); ++i) {
+      kept += !some.lights[i].visibility.empty();
+      EXPECT_EQ(some.lights[i].stats.raysTraced, all.lights[i].stats.raysTraced) << method << " lamp " << i;
+    }
+    EXPECT_LE(kept, 2u) << method;
+    EXPECT_EQ(some.stats.raysTraced, all.stats.raysTraced) << method;
+  }
+  expectValidationSilent();
+}
+
 // srt and sm per light against the reference's same light: srt within the hard-shadow bound on
 // every light; sm, the map alone, wrong on more pixels.
 TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {

@@ -129,18 +129,24 @@ std::vector<Light> DemoSession::renderLights() const {
 
 DemoSession::Key DemoSession::currentKey() const { return {renderCamera(), renderLights(), time_, settingsVersion_}; }
 
+std::optional<std::size_t> DemoSession::selectedPlace() const {
+  if (!shown_[selected_]) return std::nullopt;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < selected_; ++i) k += shown_[i];
+  return k;
+}
+
 const std::vector<float>& DemoSession::selectedVisibility(const Frame& frame, const Key& key) const {
   if (frame.lights.empty()) return frame.visibility;
-  std::size_t k = 0;  // the selected light's place among the shown
-  for (std::size_t i = 0; i < selected_; ++i) k += shown_[i];
-  return shown_[selected_] && k < frame.lights.size() && key.lights.size() == frame.lights.size()
-             ? frame.lights[k].visibility
-             : frame.visibility;
+  const std::optional<std::size_t> k = selectedPlace();
+  return k && *k < frame.lights.size() && key.lights.size() == frame.lights.size() ? frame.lights[*k].visibility
+                                                                                   : frame.visibility;
 }
 
 const Frame& DemoSession::render() {
   const Key key = currentKey();
   renderer_->setFrame(setup_.settings.denoise.mode == DenoiseMode::Temporal ? sequenceFrame_++ : 0u);
+  renderer_->keepLightBuffers(selectedPlace().value_or(0));  // the selected light's, for its error
   Frame frame = renderer_->render(method_, key.camera, key.lights);
   temporalChange_ = frame_.stats.method == method_ ? changeBetween(frame_, frame) : std::nullopt;
   frame_ = std::move(frame);  // replaces the previous frame's buffers (same sizes: no growth)
@@ -151,6 +157,7 @@ const Frame& DemoSession::render() {
 const Frame& DemoSession::renderReference() {
   const Key key = currentKey();
   renderer_->setFrame(0);
+  renderer_->keepLightBuffers(selectedPlace().value_or(0));
   Frame reference = renderer_->render("ref", key.camera, key.lights);
   referenceTemporalChange_ = changeBetween(reference_, reference);
   reference_ = std::move(reference);

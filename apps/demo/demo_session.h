@@ -82,6 +82,8 @@ class DemoSession {
   Key currentKey() const;
   Camera renderCamera() const;
   std::vector<Light> renderLights() const;
+  // The selected light's place among the lights a frame shows (none where it is hidden).
+  std::optional<std::size_t> selectedPlace() const;
   // The selected light's visibility in `frame` (a frame of the key's lights), or the frame's own.
   const std::vector<float>& selectedVisibility(const Frame& frame, const Key& key) const;
 
