@@ -75,11 +75,10 @@ void ShadePass::recordLight(const vk::raii::CommandBuffer& cmd, const gpu::Buffe
   if (area(rect) == 0) return;  // an empty rectangle: the light reaches no pixel
   // its visibility over its rectangle, row by row (one copy where the rows are whole)
   rows_.clear();
-  const std::uint32_t imageWidth = imageWidth_;
   const std::uint32_t rectWidth = rect.z - rect.x;
-  const std::uint32_t rowsPerCopy = rectWidth == imageWidth ? rect.w - rect.y : 1u;
+  const std::uint32_t rowsPerCopy = rectWidth == imageWidth_ ? rect.w - rect.y : 1u;
   for (std::uint32_t y = rect.y; y < rect.w; y += rowsPerCopy) {
-    rows_.push_back({(std::uint64_t(y) * imageWidth + rect.x) * sizeof(float),
+    rows_.push_back({(std::uint64_t(y) * imageWidth_ + rect.x) * sizeof(float),
                      (batchFloats_ + std::uint64_t(y - rect.y) * rectWidth) * sizeof(float),
                      std::uint64_t(rectWidth) * rowsPerCopy * sizeof(float)});
   }
@@ -123,17 +122,22 @@ ShadePass::BatchLists ShadePass::prepareBatch(std::uint32_t width, std::uint32_t
   lists->lights.upload(std::span<const shared::ShadeLight>(batch_));
   lists->tiles.upload(std::span<const std::uint32_t>(tiles_));
   // the traced lights' tiles
-  glm::uvec4 traced(width, height, 0u, 0u);
-  for (const shared::ShadeLight& light : batch_) {
-    if (light.traced == 0u) continue;
-    traced = glm::uvec4(glm::min(glm::uvec2(traced), glm::uvec2(light.rect)),
-                        glm::max(glm::uvec2(traced.z, traced.w), glm::uvec2(light.rect.z, light.rect.w)));
-  }
+  glm::uvec4 traced = reach(width, height, true);
   constexpr std::uint32_t kTile = SHADE_TILE;
   traced = traced.z > traced.x ? glm::uvec4(glm::uvec2(traced) / kTile * kTile,
                                             (glm::uvec2(traced.z, traced.w) + (kTile - 1u)) / kTile * kTile)
                                : glm::uvec4(0u);
   return {*lists, tilesX_, traced};
+}
+
+glm::uvec4 ShadePass::reach(std::uint32_t width, std::uint32_t height, bool tracedOnly) const {
+  glm::uvec4 rect(width, height, 0u, 0u);  // empty
+  for (const shared::ShadeLight& light : batch_) {
+    if (tracedOnly && light.traced == 0u) continue;
+    rect = glm::uvec4(glm::min(glm::uvec2(rect), glm::uvec2(light.rect)),
+                      glm::max(glm::uvec2(rect.z, rect.w), glm::uvec2(light.rect.z, light.rect.w)));
+  }
+  return rect;
 }
 
 void ShadePass::recordBatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer,
@@ -147,14 +151,7 @@ void ShadePass::recordBatch(const vk::raii::CommandBuffer& cmd, const raster::GB
   }
   // The first batch writes every pixel's sum, a later one adds over its lights' rectangles only,
   // the last writes the image.
-  glm::uvec4 rect(0u, 0u, width, height);
-  if (sum && !last) {
-    rect = glm::uvec4(width, height, 0u, 0u);
-    for (const shared::ShadeLight& light : batch_) {
-      rect = glm::uvec4(glm::min(glm::uvec2(rect), glm::uvec2(light.rect)),
-                        glm::max(glm::uvec2(rect.z, rect.w), glm::uvec2(light.rect.z, light.rect.w)));
-    }
-  }
+  const glm::uvec4 rect = sum && !last ? reach(width, height, false) : glm::uvec4(0u, 0u, width, height);
   if (rect.z > rect.x && rect.w > rect.y) {
     shared::ShadePush push{};
     push.origin = glm::uvec2(rect);

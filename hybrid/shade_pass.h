@@ -66,6 +66,9 @@ class ShadePass {
 
  private:
   void add(const shared::GpuLight& light, const glm::uvec4& rect, std::uint32_t index, bool traced);
+  // The pixels the batch's lights (or its traced ones only) reach: their rectangles' union, empty
+  // (zw < xy) where none.
+  glm::uvec4 reach(std::uint32_t width, std::uint32_t height, bool tracedOnly) const;
   void dispatch(const vk::raii::CommandBuffer& cmd, const raster::GBufferPass& gbuffer, const gpu::Buffer& frame,
                 const gpu::Buffer& visibility, const gpu::Buffer& indirect, const gpu::Buffer& direct,
                 const gpu::Buffer& color, const gpu::Buffer& lights, const gpu::Buffer& tiles,
