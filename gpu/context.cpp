@@ -200,6 +200,21 @@ void Context::clearValidationMessages() {
   messages_.clear();
 }
 
+std::shared_ptr<const void> Context::shared(const std::string& key,
+                                            const std::function<std::shared_ptr<const void>()>& make) const {
+  {
+    std::lock_guard lock(sharedMutex_);
+    if (std::shared_ptr<const void> alive = shared_[key].lock()) return alive;
+  }
+  std::shared_ptr<const void> made = make();  // unlocked: making may take long (another thread may make it too)
+  std::lock_guard lock(sharedMutex_);
+  std::erase_if(shared_, [](const auto& entry) { return entry.second.expired(); });
+  std::weak_ptr<const void>& entry = shared_[key];
+  if (std::shared_ptr<const void> alive = entry.lock()) return alive;
+  entry = made;
+  return made;
+}
+
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT,
                                                   VkDebugUtilsMessageTypeFlagsEXT,
                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {

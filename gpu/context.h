@@ -3,6 +3,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -70,6 +72,12 @@ class Context {
   std::vector<std::string> validationMessages() const;
   void clearValidationMessages();
 
+  // The object made for `key` that is still alive, else make()'s, remembered while it lives: passes
+  // made more than once (a light's own maps, a renderer per method) share their pipelines, and the
+  // driver compiles each once (gpu/pipeline.cpp keys them by their whole description).
+  std::shared_ptr<const void> shared(const std::string& key,
+                                     const std::function<std::shared_ptr<const void>()>& make) const;
+
  private:
   void nameObject(vk::ObjectType type, std::uint64_t handle, const std::string& text) const;
   static VKAPI_ATTR VkBool32 VKAPI_CALL onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -85,6 +93,8 @@ class Context {
   std::uint64_t maxBufferBytes_ = 0;
   mutable std::mutex messagesMutex_;
   std::vector<std::string> messages_;
+  mutable std::mutex sharedMutex_;
+  mutable std::map<std::string, std::weak_ptr<const void>> shared_;
   vk::raii::Context context_;
   vk::raii::Instance instance_{nullptr};
   vk::raii::DebugUtilsMessengerEXT messenger_{nullptr};

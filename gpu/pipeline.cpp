@@ -1,5 +1,7 @@
 #include "gpu/pipeline.h"
 
+#include <type_traits>
+
 namespace penumbra::gpu {
 namespace {
 
@@ -13,6 +15,39 @@ vk::ShaderStageFlags graphicsStages(const GraphicsPipelineDesc& desc) {
 
 vk::raii::ShaderModule shaderModule(const Context& context, std::span<const std::uint32_t> spirv) {
   return vk::raii::ShaderModule(context.device(), {.codeSize = spirv.size_bytes(), .pCode = spirv.data()});
+}
+
+// The bytes of a pipeline's description, for Context::shared: equal bytes, the same pipeline.
+class Key {
+ public:
+  explicit Key(const std::string& kind) { text(kind); }
+  template <typename T>
+  Key& add(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&value), sizeof(T));
+    return *this;
+  }
+  template <typename Range>
+  Key& all(const Range& values) {
+    add(std::size(values));
+    for (const auto& value : values) add(value);
+    return *this;
+  }
+  Key& text(const std::string& value) {
+    add(value.size());
+    bytes_ += value;
+    return *this;
+  }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+Key& addBindings(Key& key, std::span<const Binding> bindings) {
+  key.add(bindings.size());
+  for (const Binding& b : bindings) key.add(b.binding).add(b.type);
+  return key;
 }
 
 }  // namespace
@@ -73,24 +108,31 @@ void Descriptors::push(const vk::raii::CommandBuffer& cmd, vk::PipelineBindPoint
 }
 
 ComputePipeline::ComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
-                                 std::span<const Binding> bindings, std::uint32_t pushConstantBytes, const std::string& name,
-                                 std::span<const std::uint32_t> specialization)
-    : layout_(context, bindings, vk::ShaderStageFlagBits::eCompute, pushConstantBytes) {
-  const auto module = shaderModule(context, spirv);
-  std::vector<vk::SpecializationMapEntry> entries;
-  for (std::uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, 4 * i, 4});
-  const vk::SpecializationInfo constants{.mapEntryCount = std::uint32_t(entries.size()),
-                                         .pMapEntries = entries.data(),
-                                         .dataSize = specialization.size_bytes(),
-                                         .pData = specialization.data()};
-  pipeline_ = vk::raii::Pipeline(
-      context.device(), nullptr,
-      vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute,
-                                              .module = *module,
-                                              .pName = "main",
-                                              .pSpecializationInfo = entries.empty() ? nullptr : &constants},
-                                    .layout = layout_.handle()});
-  context.name(*pipeline_, name);
+                                 std::span<const Binding> bindings, std::uint32_t pushConstantBytes,
+                                 const std::string& name, std::span<const std::uint32_t> specialization) {
+  Key key("compute");
+  key.text(name).all(spirv).add(pushConstantBytes).all(specialization);
+  addBindings(key, bindings);
+  built_ = std::static_pointer_cast<const BuiltPipeline>(context.shared(key.bytes(), [&] {
+    auto built =
+        std::make_shared<BuiltPipeline>(context, bindings, vk::ShaderStageFlagBits::eCompute, pushConstantBytes);
+    const auto module = shaderModule(context, spirv);
+    std::vector<vk::SpecializationMapEntry> entries;
+    for (std::uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, 4 * i, 4});
+    const vk::SpecializationInfo constants{.mapEntryCount = std::uint32_t(entries.size()),
+                                           .pMapEntries = entries.data(),
+                                           .dataSize = specialization.size_bytes(),
+                                           .pData = specialization.data()};
+    built->pipeline = vk::raii::Pipeline(
+        context.device(), nullptr,
+        vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute,
+                                                .module = *module,
+                                                .pName = "main",
+                                                .pSpecializationInfo = entries.empty() ? nullptr : &constants},
+                                      .layout = built->layout.handle()});
+    context.name(*built->pipeline, name);
+    return std::shared_ptr<const void>(std::move(built));
+  }));
 }
 
 SpecializedComputePipeline::SpecializedComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
@@ -109,76 +151,84 @@ const ComputePipeline& SpecializedComputePipeline::operator()(bool value) const 
 }
 
 void ComputePipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
-  cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_);
-  descriptors.push(cmd, vk::PipelineBindPoint::eCompute, layout_);
+  cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *built_->pipeline);
+  descriptors.push(cmd, vk::PipelineBindPoint::eCompute, built_->layout);
 }
 
-GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc)
-    : layout_(context, desc.bindings, graphicsStages(desc), desc.pushConstantBytes) {
-  const auto vertexModule = shaderModule(context, desc.vertexSpirv);
-  std::optional<vk::raii::ShaderModule> geometryModule;
-  std::optional<vk::raii::ShaderModule> fragmentModule;
-  std::vector<vk::PipelineShaderStageCreateInfo> stages{
-      {.stage = vk::ShaderStageFlagBits::eVertex, .module = *vertexModule, .pName = "main"}};
-  if (!desc.geometrySpirv.empty()) {
-    geometryModule.emplace(shaderModule(context, desc.geometrySpirv));
-    stages.push_back({.stage = vk::ShaderStageFlagBits::eGeometry, .module = **geometryModule, .pName = "main"});
-  }
-  if (!desc.fragmentSpirv.empty()) {
-    fragmentModule.emplace(shaderModule(context, desc.fragmentSpirv));
-    stages.push_back({.stage = vk::ShaderStageFlagBits::eFragment, .module = **fragmentModule, .pName = "main"});
-  }
-  const vk::PipelineVertexInputStateCreateInfo vertexInput{
-      .vertexBindingDescriptionCount = std::uint32_t(desc.vertexBindings.size()),
-      .pVertexBindingDescriptions = desc.vertexBindings.data(),
-      .vertexAttributeDescriptionCount = std::uint32_t(desc.vertexAttributes.size()),
-      .pVertexAttributeDescriptions = desc.vertexAttributes.data()};
-  const vk::PipelineInputAssemblyStateCreateInfo inputAssembly{.topology = vk::PrimitiveTopology::eTriangleList};
-  const vk::PipelineViewportStateCreateInfo viewport{.viewportCount = 1, .scissorCount = 1};
-  const vk::PipelineRasterizationStateCreateInfo rasterization{.polygonMode = vk::PolygonMode::eFill,
-                                                               .cullMode = vk::CullModeFlagBits::eNone,
-                                                               .frontFace = vk::FrontFace::eCounterClockwise,
-                                                               .depthBiasEnable = desc.depthBias,
-                                                               .lineWidth = 1.0f};
-  const vk::PipelineMultisampleStateCreateInfo multisample{.rasterizationSamples = vk::SampleCountFlagBits::e1};
-  const vk::PipelineDepthStencilStateCreateInfo depth{
-      .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE, .depthCompareOp = desc.depthCompare};
-  const std::vector<vk::PipelineColorBlendAttachmentState> blend(
-      desc.colorFormats.size(),
-      {.blendEnable = VK_FALSE, .colorWriteMask = vk::ColorComponentFlagBits::eR | vk::ColorComponentFlagBits::eG |
-                                                  vk::ColorComponentFlagBits::eB | vk::ColorComponentFlagBits::eA});
-  const vk::PipelineColorBlendStateCreateInfo colorBlend{.attachmentCount = std::uint32_t(blend.size()),
-                                                         .pAttachments = blend.data()};
-  std::vector<vk::DynamicState> dynamic{vk::DynamicState::eViewport, vk::DynamicState::eScissor};
-  if (desc.depthBias) dynamic.push_back(vk::DynamicState::eDepthBias);
-  const vk::PipelineDynamicStateCreateInfo dynamicState{.dynamicStateCount = std::uint32_t(dynamic.size()),
-                                                        .pDynamicStates = dynamic.data()};
-  const vk::PipelineRenderingCreateInfo rendering{.colorAttachmentCount = std::uint32_t(desc.colorFormats.size()),
-                                                  .pColorAttachmentFormats = desc.colorFormats.data(),
-                                                  .depthAttachmentFormat = desc.depthFormat};
-  pipeline_ = vk::raii::Pipeline(context.device(), nullptr,
-                                 vk::GraphicsPipelineCreateInfo{.pNext = &rendering,
-                                                                .stageCount = std::uint32_t(stages.size()),
-                                                                .pStages = stages.data(),
-                                                                .pVertexInputState = &vertexInput,
-                                                                .pInputAssemblyState = &inputAssembly,
-                                                                .pViewportState = &viewport,
-                                                                .pRasterizationState = &rasterization,
-                                                                .pMultisampleState = &multisample,
-                                                                .pDepthStencilState = &depth,
-                                                                .pColorBlendState = &colorBlend,
-                                                                .pDynamicState = &dynamicState,
-                                                                .layout = layout_.handle()});
-  context.name(*pipeline_, desc.name);
+GraphicsPipeline::GraphicsPipeline(const Context& context, const GraphicsPipelineDesc& desc) {
+  Key key("graphics");
+  key.text(desc.name).all(desc.vertexSpirv).all(desc.fragmentSpirv).all(desc.geometrySpirv);
+  key.all(desc.vertexBindings).all(desc.vertexAttributes).all(desc.colorFormats);
+  key.add(desc.depthFormat).add(desc.depthBias).add(desc.depthCompare).add(desc.pushConstantBytes);
+  addBindings(key, desc.bindings);
+  built_ = std::static_pointer_cast<const BuiltPipeline>(context.shared(key.bytes(), [&] {
+    auto built = std::make_shared<BuiltPipeline>(context, desc.bindings, graphicsStages(desc), desc.pushConstantBytes);
+    const auto vertexModule = shaderModule(context, desc.vertexSpirv);
+    std::optional<vk::raii::ShaderModule> geometryModule;
+    std::optional<vk::raii::ShaderModule> fragmentModule;
+    std::vector<vk::PipelineShaderStageCreateInfo> stages{
+        {.stage = vk::ShaderStageFlagBits::eVertex, .module = *vertexModule, .pName = "main"}};
+    if (!desc.geometrySpirv.empty()) {
+      geometryModule.emplace(shaderModule(context, desc.geometrySpirv));
+      stages.push_back({.stage = vk::ShaderStageFlagBits::eGeometry, .module = **geometryModule, .pName = "main"});
+    }
+    if (!desc.fragmentSpirv.empty()) {
+      fragmentModule.emplace(shaderModule(context, desc.fragmentSpirv));
+      stages.push_back({.stage = vk::ShaderStageFlagBits::eFragment, .module = **fragmentModule, .pName = "main"});
+    }
+    const vk::PipelineVertexInputStateCreateInfo vertexInput{
+        .vertexBindingDescriptionCount = std::uint32_t(desc.vertexBindings.size()),
+        .pVertexBindingDescriptions = desc.vertexBindings.data(),
+        .vertexAttributeDescriptionCount = std::uint32_t(desc.vertexAttributes.size()),
+        .pVertexAttributeDescriptions = desc.vertexAttributes.data()};
+    const vk::PipelineInputAssemblyStateCreateInfo inputAssembly{.topology = vk::PrimitiveTopology::eTriangleList};
+    const vk::PipelineViewportStateCreateInfo viewport{.viewportCount = 1, .scissorCount = 1};
+    const vk::PipelineRasterizationStateCreateInfo rasterization{.polygonMode = vk::PolygonMode::eFill,
+                                                                 .cullMode = vk::CullModeFlagBits::eNone,
+                                                                 .frontFace = vk::FrontFace::eCounterClockwise,
+                                                                 .depthBiasEnable = desc.depthBias,
+                                                                 .lineWidth = 1.0f};
+    const vk::PipelineMultisampleStateCreateInfo multisample{.rasterizationSamples = vk::SampleCountFlagBits::e1};
+    const vk::PipelineDepthStencilStateCreateInfo depth{
+        .depthTestEnable = VK_TRUE, .depthWriteEnable = VK_TRUE, .depthCompareOp = desc.depthCompare};
+    const std::vector<vk::PipelineColorBlendAttachmentState> blend(
+        desc.colorFormats.size(), {.blendEnable = VK_FALSE,
+                                   .colorWriteMask = vk::ColorComponentFlagBits::eR | vk::ColorComponentFlagBits::eG |
+                                                     vk::ColorComponentFlagBits::eB | vk::ColorComponentFlagBits::eA});
+    const vk::PipelineColorBlendStateCreateInfo colorBlend{.attachmentCount = std::uint32_t(blend.size()),
+                                                           .pAttachments = blend.data()};
+    std::vector<vk::DynamicState> dynamic{vk::DynamicState::eViewport, vk::DynamicState::eScissor};
+    if (desc.depthBias) dynamic.push_back(vk::DynamicState::eDepthBias);
+    const vk::PipelineDynamicStateCreateInfo dynamicState{.dynamicStateCount = std::uint32_t(dynamic.size()),
+                                                          .pDynamicStates = dynamic.data()};
+    const vk::PipelineRenderingCreateInfo rendering{.colorAttachmentCount = std::uint32_t(desc.colorFormats.size()),
+                                                    .pColorAttachmentFormats = desc.colorFormats.data(),
+                                                    .depthAttachmentFormat = desc.depthFormat};
+    built->pipeline = vk::raii::Pipeline(context.device(), nullptr,
+                                         vk::GraphicsPipelineCreateInfo{.pNext = &rendering,
+                                                                        .stageCount = std::uint32_t(stages.size()),
+                                                                        .pStages = stages.data(),
+                                                                        .pVertexInputState = &vertexInput,
+                                                                        .pInputAssemblyState = &inputAssembly,
+                                                                        .pViewportState = &viewport,
+                                                                        .pRasterizationState = &rasterization,
+                                                                        .pMultisampleState = &multisample,
+                                                                        .pDepthStencilState = &depth,
+                                                                        .pColorBlendState = &colorBlend,
+                                                                        .pDynamicState = &dynamicState,
+                                                                        .layout = built->layout.handle()});
+    context.name(*built->pipeline, desc.name);
+    return std::shared_ptr<const void>(std::move(built));
+  }));
 }
 
 void GraphicsPipeline::bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
-  cmd.bindPipeline(vk::PipelineBindPoint::eGraphics, *pipeline_);
+  cmd.bindPipeline(vk::PipelineBindPoint::eGraphics, *built_->pipeline);
   pushDescriptors(cmd, descriptors);
 }
 
 void GraphicsPipeline::pushDescriptors(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const {
-  descriptors.push(cmd, vk::PipelineBindPoint::eGraphics, layout_);
+  descriptors.push(cmd, vk::PipelineBindPoint::eGraphics, built_->layout);
 }
 
 vk::raii::Sampler makeNearestSampler(const Context& context, const std::string& name) {

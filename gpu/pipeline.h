@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -50,6 +51,15 @@ class Descriptors {
   std::vector<vk::WriteDescriptorSet> writes_;
 };
 
+// A pipeline and its layout: every pass made with the same description shares one (Context::shared).
+struct BuiltPipeline {
+  BuiltPipeline(const Context& context, std::span<const Binding> bindings, vk::ShaderStageFlags stages,
+                std::uint32_t pushConstantBytes)
+      : layout(context, bindings, stages, pushConstantBytes) {}
+  PipelineLayout layout;
+  vk::raii::Pipeline pipeline{nullptr};
+};
+
 class ComputePipeline {
  public:
   // specialization: the values of the shader's specialization constants 0, 1, ... (4 bytes each).
@@ -59,12 +69,11 @@ class ComputePipeline {
   void bind(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
   template <typename T>
   void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
-    cmd.pushConstants<T>(layout_.handle(), vk::ShaderStageFlagBits::eCompute, 0, value);
+    cmd.pushConstants<T>(built_->layout.handle(), vk::ShaderStageFlagBits::eCompute, 0, value);
   }
 
  private:
-  PipelineLayout layout_;
-  vk::raii::Pipeline pipeline_{nullptr};
+  std::shared_ptr<const BuiltPipeline> built_;
 };
 
 // A compute shader with one boolean specialization constant (constant_id 0): a choice fixed for
@@ -110,12 +119,11 @@ class GraphicsPipeline {
   void pushDescriptors(const vk::raii::CommandBuffer& cmd, const Descriptors& descriptors) const;
   template <typename T>
   void pushConstants(const vk::raii::CommandBuffer& cmd, const T& value) const {
-    cmd.pushConstants<T>(layout_.handle(), layout_.stages(), 0, value);
+    cmd.pushConstants<T>(built_->layout.handle(), built_->layout.stages(), 0, value);
   }
 
  private:
-  PipelineLayout layout_;
-  vk::raii::Pipeline pipeline_{nullptr};
+  std::shared_ptr<const BuiltPipeline> built_;
 };
 
 vk::raii::Sampler makeNearestSampler(const Context& context, const std::string& name);

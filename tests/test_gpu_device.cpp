@@ -2,6 +2,8 @@
 // silent through full renders of every method, including a cube-map point light.
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "core/view.h"
 #include "hybrid/method.h"
 #include "render_fixture.h"
@@ -58,6 +60,25 @@ TEST(GpuDevice, ValidationCatchesMisuse) {
   }
   EXPECT_FALSE(context.validationMessages().empty());
   context.clearValidationMessages();
+}
+
+// Context::shared: a key's object while any user holds it (pipelines made twice are made once),
+// a new one after the last user let go, and another for another key.
+TEST(GpuDevice, SharedObjectsLiveWhileUsed) {
+  gpu::Context& context = validatedContext();
+  int made = 0;
+  const auto make = [&] { return std::shared_ptr<const void>(std::make_shared<int>(++made)); };
+  std::shared_ptr<const void> a = context.shared("test a", make), again = context.shared("test a", make);
+  EXPECT_EQ(a, again);
+  const std::shared_ptr<const void> b = context.shared("test b", make);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(made, 2);
+  a.reset();
+  EXPECT_EQ(context.shared("test a", make), again) << "still held by `again`";
+  again.reset();
+  const auto fresh = std::static_pointer_cast<const int>(context.shared("test a", make));
+  EXPECT_EQ(made, 3);
+  EXPECT_EQ(*fresh, 3);
 }
 
 TEST(GpuDevice, PerPassTimesAreReported) {
