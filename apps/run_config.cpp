@@ -53,7 +53,7 @@ struct MemoryEstimate {
     }
     if (top == lightMaps) {
       return "the light's maps at " + std::to_string(s.shadowMap.resolution) + "^2 (" + mib(lightMaps) +
-             "): lower --shadow-map-res";
+             "): lower --shadow-map-res" + (s.reuseLightPasses ? " or --light-maps-memory" : "");
     }
     if (top == geometry) {
       return "the scene's " + std::to_string(triangles) + " triangles (" + mib(geometry) +
@@ -352,6 +352,8 @@ RunSetup prepareRun(const RunConfig& c, const std::vector<std::string>& methods,
     // the lights' maps are kept by face count and resolution: a one-face map's beside a cube's
     // (1/6 more), and coarser footprint resolutions (powers of two below: at most 1/3 more)
     need.lightMaps = need.lightMaps * 14 / 9;
+    // and, keeping still lights' maps, each light's own up to --light-maps-memory
+    if (s.settings.reuseLightPasses) need.lightMaps += std::uint64_t(s.settings.lightMapsMiB) << 20;
   }
   requireFits(need, s.settings, s.scene.triangleCount());
   if (!c.saveView.empty()) {

@@ -25,6 +25,22 @@ RenderSettings resolved(const gpu::Context& context, RenderSettings s) {
   return s;
 }
 
+// One box per moving mesh (Mesh::dynamic), in the scene's order.
+std::vector<Bounds> movingMeshBounds(const Scene& scene) {
+  std::vector<Bounds> boxes;
+  for (const Mesh& mesh : scene.meshes) {
+    if (!mesh.dynamic) continue;
+    Bounds& box = boxes.emplace_back();
+    for (const glm::vec3& p : mesh.positions) box.extend(p);
+  }
+  return boxes;
+}
+
+// Whether a box comes within `radius` of `at`.
+bool reaches(const Bounds& box, const glm::vec3& at, float radius) {
+  return !box.empty() && glm::distance(glm::clamp(at, box.lo, box.hi), at) <= radius;
+}
+
 }  // namespace
 
 FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, const RenderSettings& settings)
@@ -63,7 +79,8 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
                 vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress,
                 "blocker distances"),
       timer_(context) {
-  std::memset(blockers_.data(), 0, blockers_.size());  // 0: no blocker known (a CPU tracer never writes them)
+  std::memset(blockers_.data(), 0, blockers_.size());
+  movingBounds_ = movingMeshBounds(scene);  // 0: no blocker known (a CPU tracer never writes them)
 }
 
 FrameContext::~FrameContext() = default;
@@ -159,6 +176,17 @@ ShadowTracer& FrameContext::tracer(FrameStats& stats, const std::string& name) {
 void FrameContext::sceneMoved() {
   ++sceneVersion_;
   geometry_.update(scene_);
+  // What the move swept, for the maps of the lights it did not reach (lightPassesKey).
+  std::vector<Bounds> now = movingMeshBounds(scene_);
+  Move& move = moves_.emplace_back(Move{geometry_.version(), now});
+  for (std::size_t i = 0; i < now.size() && i < movingBounds_.size(); ++i) {
+    if (movingBounds_[i].empty()) continue;
+    move.swept[i].extend(movingBounds_[i].lo);
+    move.swept[i].extend(movingBounds_[i].hi);
+  }
+  constexpr std::size_t kMoves = 64;  // older moves count as having reached every map
+  if (moves_.size() > kMoves) moves_.pop_front();
+  movingBounds_ = std::move(now);
   if (indirectPass_) indirectPass_->update(scene_);
   candidates_.reset();  // one tree over every mesh: built again on next use
   // The built tracers refit (or rebuild) their dynamic BVHs; frames report the first one's update
@@ -338,6 +366,8 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   shadeRecorded_ = false;
   joinedBatch_ = false;
   tracedWithLights_ = false;
+  maps_ = nullptr;
+  mapsPastBudget_ = false;
   if (slot.order == 0) {
     lightsTracer_ = nullptr;
     tracedLights_.clear();
@@ -445,16 +475,77 @@ bool FrameContext::LightPassesKey::operator==(const LightPassesKey& other) const
   return geometryVersion == other.geometryVersion && std::memcmp(&shadow, &other.shadow, sizeof(shadow)) == 0;
 }
 
-FrameContext::LightPassesKey FrameContext::lightPassesKey() const { return {frameData_.shadow, geometry_.version()}; }
+// The map's placement, and the version of the last move whose swept boxes came into what the map
+// sees: a point or spot light's map ends at its far plane (the light's range), so it sees no farther
+// from the light than that plane's corners; a directional light's map sees the whole scene. Where
+// the kept moves run out, the version before the oldest, so an older move may only cost a render.
+FrameContext::LightPassesKey FrameContext::lightPassesKey() const {
+  const shared::ShadowMapInfo& shadow = frameData_.shadow;
+  std::uint64_t version = geometry_.version();
+  if (shadow.kind != SHADOW_ORTHO) {
+    const float tanHalf = shadow.kind == SHADOW_CUBE ? 1.0f : 0.5f * shadow.texelWorld * float(shadow.resolution);
+    const float sees = 1.001f * shadow.farPlane * std::sqrt(1.0f + 2.0f * tanHalf * tanHalf);
+    const glm::vec3 at(shadow.lightPosition);
+    for (auto move = moves_.rbegin(); move != moves_.rend() && move->version == version; ++move) {
+      if (std::any_of(move->swept.begin(), move->swept.end(), [&](const Bounds& b) { return reaches(b, at, sees); }))
+        break;
+      --version;
+    }
+  }
+  return {shadow, version};
+}
+
+FrameContext::LightMaps& FrameContext::maps() {
+  if (!maps_) maps_ = &chooseMaps();
+  return *maps_;
+}
+
+// A frame of several lights that keeps still lights' maps gives each light maps of its own, first
+// come first kept, while their estimated bytes fit settings().lightMapsMiB; a light past it renders
+// shared maps again. A light keeps its own until its resolution or face count changes (its footprint
+// did) or the frame has fewer lights.
+FrameContext::LightMaps& FrameContext::chooseMaps() {
+  using Key = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;
+  const std::uint32_t resolution = mapSettings_.resolution, faces = frameData_.shadow.faceCount;
+  const Key shared{kSharedMaps, resolution, faces};
+  mapsPastBudget_ = false;
+  if (!settings_.reuseLightPasses || slot_.count == 1) return lightMaps_[shared];
+  const Key own{slot_.index, resolution, faces};
+  std::erase_if(lightMaps_, [&](const auto& m) {
+    const std::uint32_t owner = std::get<0>(m.first);
+    return owner != kSharedMaps && (owner >= slot_.count || (owner == slot_.index && m.first != own));
+  });
+  if (auto it = lightMaps_.find(own); it != lightMaps_.end()) return it->second;
+  // the map, the thin mask and the edge pyramid (about a map each), and the texel copies of the
+  // first two where the passes read maps from buffers
+  const std::uint64_t copies = settings_.shadowMap.reads == raster::ShadowMapSettings::Reads::Buffer ? 5 : 3;
+  const auto bytes = [&](const Key& k) {
+    return std::uint64_t(std::get<1>(k)) * std::get<1>(k) * std::get<2>(k) * 4 * copies;
+  };
+  std::uint64_t kept = bytes(own);
+  for (const auto& [key, m] : lightMaps_) kept += std::get<0>(key) == kSharedMaps ? 0 : bytes(key);
+  if (kept > std::uint64_t(settings_.lightMapsMiB) << 20) {
+    mapsPastBudget_ = true;
+    return lightMaps_[shared];
+  }
+  return lightMaps_[own];
+}
 
 void FrameContext::recordShadowMap(const vk::raii::CommandBuffer& cmd, FrameStats& stats) {
   // Made on first use for each resolution and face count the frame's lights need.
   LightMaps& m = maps();
   if (!m.shadowMap)
     m.shadowMap = std::make_unique<raster::ShadowMapPass>(context_, mapSettings_, frameData_.shadow.faceCount);
-  std::uint64_t bytes = 0;  // every map the frame's lights keep
-  for (const auto& [key, maps] : lightMaps_) bytes += maps.shadowMap ? maps.shadowMap->depth().bytes() : 0;
+  std::uint64_t bytes = 0, all = 0, own = 0;  // the maps the frame's lights keep; with their thin masks and pyramids
+  for (const auto& [key, maps] : lightMaps_) {
+    bytes += maps.shadowMap ? maps.shadowMap->depth().bytes() : 0;
+    all += (maps.shadowMap ? maps.shadowMap->depth().bytes() + maps.shadowMap->texels().size() : 0) +
+           (maps.thin ? maps.thin->bytes() : 0) + (maps.pyramid ? maps.pyramid->tiles().size() : 0);
+    own += std::get<0>(key) != kSharedMaps;
+  }
   stats.memoryBytes["shadow_map"] = bytes;
+  stats.memoryBytes["light_maps"] = all;
+  if (slot_.count > 1 && settings_.reuseLightPasses) stats.counts["lights_with_own_maps"] = own;
   stats.counts["shadow_map_texels"] =
       std::uint64_t(mapSettings_.resolution) * mapSettings_.resolution * frameData_.shadow.faceCount;
   const LightPassesKey key = lightPassesKey();
@@ -535,6 +626,10 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     }
   }
 
+  if (mapsPastBudget_) {
+    stats.notes.push_back("its maps are past --light-maps-memory " + std::to_string(settings_.lightMapsMiB) +
+                          " MiB (other lights keep theirs): rendered again every frame");
+  }
   stats.refit = refit_;
   stats.memoryBytes["scene_geometry"] = geometry_.bytes();
   stats.memoryBytes["gbuffer"] = gbuffer_.bytes();

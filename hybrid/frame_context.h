@@ -4,10 +4,12 @@
 // begin, the method's stages, shade and readBack.
 #pragma once
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/camera.h"
@@ -129,7 +131,7 @@ class FrameContext {
   gpu::GpuTimer& timer() { return timer_; }
   const raster::SceneGeometry& geometry() const { return geometry_; }
   const raster::GBufferPass& gbuffer() const { return gbuffer_; }
-  const raster::ShadowMapPass& shadowMap() const { return *lightMaps_.at(mapsKey()).shadowMap; }
+  const raster::ShadowMapPass& shadowMap() const { return *maps_->shadowMap; }
   const raster::ShadowLookupPass& shadowLookup() const { return lookup_; }
   const ViewMatrices& view() const { return view_; }
   const glm::vec3& cameraPosition() const { return cameraPosition_; }
@@ -221,26 +223,38 @@ class FrameContext {
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;
-  // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses).
+  // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses):
+  // the map's placement and the last geometry version whose move reached what the map sees.
   struct LightPassesKey {
     shared::ShadowMapInfo shadow;
     std::uint64_t geometryVersion;
     bool operator==(const LightPassesKey& other) const;
   };
   LightPassesKey lightPassesKey() const;
-  // The light's passes at one map resolution and face count (each made on first use), kept for
-  // every light of a frame that needs the same.
+  // A light's passes at one map resolution and face count, each made on first use.
   struct LightMaps {
     std::unique_ptr<raster::ShadowMapPass> shadowMap;
     std::unique_ptr<raster::ThinTrianglePass> thin;
     std::unique_ptr<raster::DepthPyramidPass> pyramid;
     std::optional<LightPassesKey> shadowMapKey, pyramidKey;
   };
-  std::map<std::pair<std::uint32_t, std::uint32_t>, LightMaps> lightMaps_;  // by (resolution, faces)
-  std::pair<std::uint32_t, std::uint32_t> mapsKey() const {
-    return {frameData_.shadow.resolution, frameData_.shadow.faceCount};
-  }
-  LightMaps& maps() { return lightMaps_[mapsKey()]; }  // this light's
+  // By (owner, resolution, faces): a light's own while settings().lightMapsMiB holds them, owner its
+  // index (several lights, reuseLightPasses: chooseMaps), else kSharedMaps', which every light of
+  // that resolution and face count renders again.
+  static constexpr std::uint32_t kSharedMaps = ~0u;
+  std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, LightMaps> lightMaps_;
+  LightMaps* maps_ = nullptr;    // this light's, chosen on first use in its frame (maps())
+  bool mapsPastBudget_ = false;  // its own would not fit settings().lightMapsMiB
+  LightMaps& maps();
+  LightMaps& chooseMaps();
+  // The moving meshes' boxes as of the last sceneMoved, and what the last moves swept (each mesh's
+  // box before and after), by the geometry version each made.
+  std::vector<Bounds> movingBounds_;
+  struct Move {
+    std::uint64_t version;
+    std::vector<Bounds> swept;
+  };
+  std::deque<Move> moves_;
   // The resolution of this light's map: settings().shadowMap's, or less by the footprint rule
   // (RenderSettings::footprintMaps).
   std::uint32_t mapResolution() const;

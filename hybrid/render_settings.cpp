@@ -16,6 +16,12 @@ const Options<RenderSettings>& renderOptions() {
              "Keep the shadow map and edge pyramid while the light and the geometry stay still, as an engine keeps a "
              "still light's map (on), or render them every frame (off)",
              {{"on", true}, {"off", false}});
+    o.number(
+        "--light-maps-memory", "light_maps_memory", &S::lightMapsMiB,
+        "With --reuse-light-passes on and several lights: MiB the lights' own maps may keep (each light's map, "
+        "thin mask and edge pyramid, refreshed only when the light or the geometry its map sees moved); the lights "
+        "past it share maps rendered again for each",
+        0u, 1u << 20);
     o.choice("--light-map-res", "light_map_res", &S::footprintMaps,
              "Point and spot lights with a range: a map as fine as the range's nearest approach to the camera needs "
              "(footprint: a texel at most half a pixel there, 128 to --shadow-map-res texels), or --shadow-map-res "

@@ -43,6 +43,11 @@ struct RenderSettings {
   // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
   // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.
   bool reuseLightPasses = false;
+  // --light-maps-memory: with reuseLightPasses and several lights, each light keeps its own map, thin
+  // mask and edge pyramid (each refreshed only when the light or the geometry its map sees moved)
+  // while their estimated sum stays within this many MiB; the lights past it share maps rendered
+  // again for each of them (FrameContext::chooseMaps).
+  std::uint32_t lightMapsMiB = 4096;
   // --light-map-res: point and spot lights with a range get the map resolution their range's
   // footprint on screen needs (FrameContext::mapResolution), at most shadowMap.resolution.
   bool footprintMaps = true;

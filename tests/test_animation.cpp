@@ -1,6 +1,7 @@
 // Animated scenes: rigid keyframe posing (core/animation), bounds that hold every pose, bad
 // animation input, and frames of the moving built-in scene that follow the pose on the GPU
 // (raster geometry re-uploaded by Renderer::sceneMoved, tracers refit) and agree with Embree.
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -156,6 +157,47 @@ TEST(Animation, StillLightPassesAreKeptUntilTheLightOrTheGeometryMoves) {
     run->renderer->sceneMoved();
   }
   expectSame({}, "after the geometry moved");
+  test::expectValidationSilent();
+}
+
+// A frame of several still lights keeps each light's own maps (RenderSettings::reuseLightPasses):
+// a move renders again only the maps that see what moved (the drone passes under one lamp; the other
+// lamp's map, at the courtyard's far side, ends before the drone's swept box), and every frame is the
+// one a renderer that renders every map makes.
+TEST(Animation, AMoveRendersAgainOnlyTheMapsThatSeeIt) {
+  RenderSettings settings = test::smallSettings(96, 256);
+  settings.tracer = "bvh";
+  SceneRun again("builtin:courtyard-moving:1", settings);
+  settings.reuseLightPasses = true;
+  SceneRun keep("builtin:courtyard-moving:1", settings);
+  Light under = parseLight("point:3.5,5,0"), far = parseLight("point:-5.5,3,1");  // far: by the torus and red box
+  under.range = 7.0f;
+  far.range = 4.0f;
+  const std::vector<Light> lamps{under, far};
+  const std::vector<std::string> kept{"shadow_map"};
+  auto expectSame = [&](const std::vector<std::vector<std::string>>& reused, const char* when) {
+    const Frame a = again.renderer->render("srt", again.camera, lamps);
+    const Frame k = keep.renderer->render("srt", keep.camera, lamps);
+    for (std::size_t i = 0; i < lamps.size(); ++i) {
+      EXPECT_TRUE(a.lights[i].stats.reusedPasses.empty()) << when << ", lamp " << i;
+      EXPECT_EQ(k.lights[i].stats.reusedPasses, reused[i]) << when << ", lamp " << i;
+      EXPECT_EQ(k.lights[i].visibility, a.lights[i].visibility) << when << ", lamp " << i;
+      EXPECT_EQ(k.lights[i].pip, a.lights[i].pip) << when << ", lamp " << i;
+      const auto& v = k.lights[i].visibility;
+      EXPECT_GT(std::count(v.begin(), v.end(), 1.0f), 0) << when << ", lamp " << i << " lights some pixels";
+    }
+    EXPECT_EQ(k.lights.back().stats.counts.at("lights_with_own_maps"), lamps.size()) << when;
+    return a;
+  };
+  expectSame({{}, {}}, "first frame");
+  const Frame before = expectSame({kept, kept}, "still lamps");
+  for (SceneRun* run : {&again, &keep}) {
+    poseScene(run->scene, 0.5);
+    run->renderer->sceneMoved();
+  }
+  const Frame after = expectSame({{}, kept}, "after the drone moved");
+  EXPECT_NE(after.lights[0].visibility, before.lights[0].visibility) << "the drone's shadow under the lamp moved";
+  expectSame({kept, kept}, "still again");
   test::expectValidationSilent();
 }
 

@@ -171,6 +171,52 @@ TEST(ManyLights, KeepsTheBuffersOfTheLightsAskedFor) {
   expectValidationSilent();
 }
 
+// Keeping still lights' maps (RenderSettings::reuseLightPasses), every lamp of a frame keeps maps
+// of its own within --light-maps-memory: the second frame renders no lamp's map again; with a budget
+// that holds only some lamps' maps, the others share maps rendered again every frame and say so.
+// Every frame is the one a renderer that renders every map makes.
+TEST(ManyLights, StillLampsKeepTheirOwnMapsWithinTheBudget) {
+  RenderSettings settings = smallSettings(96, 128);  // every lamp's cube map at 128^2
+  SceneRun again("builtin:street:16", settings);
+  settings.reuseLightPasses = true;
+  SceneRun keep("builtin:street:16", settings);
+  settings.lightMapsMiB = 4;  // a 128^2 cube's passes are estimated at 1.1 or 1.9 MiB
+  SceneRun tight("builtin:street:16", settings);
+  const std::vector<Light>& lamps = again.scene.lights;
+  for (int frame = 0; frame < 2; ++frame) {
+    const Frame a = again.renderer->render("srt", again.camera, lamps);
+    const Frame k = keep.renderer->render("srt", keep.camera, lamps);
+    const Frame t = tight.renderer->render("srt", tight.camera, lamps);
+    std::size_t reached = 0, shared = 0;
+    for (std::size_t i = 0; i < lamps.size(); ++i) {
+      EXPECT_EQ(k.lights[i].visibility, a.lights[i].visibility) << "frame " << frame << ", lamp " << i;
+      EXPECT_EQ(t.lights[i].visibility, a.lights[i].visibility) << "frame " << frame << ", lamp " << i;
+      EXPECT_EQ(t.lights[i].pip, a.lights[i].pip) << "frame " << frame << ", lamp " << i;
+      if (!k.lights[i].stats.counts.contains("shadow_map_texels")) continue;  // culled
+      ++reached;
+      const auto reused = [](const Frame& f) {
+        const auto& passes = f.stats.reusedPasses;
+        return std::find(passes.begin(), passes.end(), "shadow_map") != passes.end();
+      };
+      EXPECT_EQ(reused(k.lights[i]), frame == 1) << "lamp " << i;
+      const auto& notes = t.lights[i].stats.notes;
+      const bool past = std::any_of(notes.begin(), notes.end(), [](const std::string& n) {
+        return n.find("--light-maps-memory") != std::string::npos;
+      });
+      shared += past;
+      EXPECT_EQ(reused(t.lights[i]), frame == 1 && !past) << "lamp " << i;
+    }
+    EXPECT_GT(reached, 2u);
+    EXPECT_EQ(k.lights.back().stats.counts.at("lights_with_own_maps"), reached);
+    const std::uint64_t own = t.lights.back().stats.counts.at("lights_with_own_maps");
+    EXPECT_GT(own, 0u);
+    EXPECT_LT(own, reached) << "the budget holds some lamps' maps, not all";
+    EXPECT_EQ(own + shared, reached);
+    EXPECT_LE(t.lights.back().stats.memoryBytes.at("light_maps"), k.lights.back().stats.memoryBytes.at("light_maps"));
+  }
+  expectValidationSilent();
+}
+
 // srt and sm per light against the reference's same light: srt within the hard-shadow bound on
 // every light; sm, the map alone, wrong on more pixels.
 TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {
