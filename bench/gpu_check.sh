@@ -6,7 +6,7 @@
 #   ... --cpu OUTDIR               the same steps on lavapipe at smaller sizes (here: under 10 minutes)
 #   ... --programs                 the programs of build/bin it runs (scripts/bundle.sh packs them)
 # Steps, each under a time limit cut to what is left, in this order; a failed step does not stop
-# the later ones. Writes these 8 files into OUTDIR:
+# the later ones. Writes these 9 files into OUTDIR:
 #   system.txt    OS, CPU, memory, nvidia-smi, the Vulkan driver manifests, vulkaninfo --summary
 #   device.json   penumbra device --validate: the device picked, driver, Vulkan version, extensions
 #                 (ray query, acceleration structures), geometry shaders, subgroups, limits, memory
@@ -19,6 +19,8 @@
 #   timing.md     bench tables per scene and resolution: every configuration (median, spread, PIP %,
 #                 rays, Mrays/s, memory) and the Fig. 8 shape: sm, srt, frt, srt's model bound
 #   timing.csv    the same rows as bench.csv (per-pass GPU times in `passes`)
+#   lights.txt    penumbra compare of sm, srt and frt on builtin:street's 64 lamps (16 with --cpu):
+#                 one trace for the lamps, a trace dispatch each, and each lamp keeping its own maps
 #   summary.md    each step's status and time, and the issue's targets read off timing.md
 #   log.txt       every command run, with its output's tail
 # Exit 0 when every step passed (on a GPU a step may run out of time: its tables are then missing);
@@ -264,6 +266,22 @@ step "bench-${sizes[0]}-bitmask" 60 bench "${scenes[0]}, ${sizes[0]}: bitmask, 1
   --scenes "${scenes[0]}" --res "${sizes[0]}" --methods bitmask --light-sizes 0.1 --spp 16
 step "bench-${sizes[0]}-temporal" 60 bench "${scenes[0]}, ${sizes[0]}: 1 spp with the temporal denoiser (against 256 spp)" \
   --scenes "${scenes[0]}" --res "${sizes[0]}" --methods srt,frt --light-sizes 0.1 --spp 1 --denoise temporal --reference-spp 256
+# --- 6. many lights: the street's lamps, one trace for them or a dispatch each, and kept maps ------
+lights_runs() {
+  local lamps=64 opts t
+  [ $cpu = 1 ] && lamps=16
+  for t in ${trace_list//,/ }; do
+    for opts in "--lights-trace one" "--lights-trace each" "--reuse-light-passes on"; do
+      echo "### penumbra compare --scene builtin:street:$lamps --res ${sizes[0]} --tracer $t $opts"
+      # shellcheck disable=SC2086 # opts: an option and its value
+      prog penumbra compare --scene "builtin:street:$lamps" --res "${sizes[0]}" --methods sm,srt,frt --tracer "$t" \
+        --warmup "$warmup" --repeat "$repeat" --no-report --out "$tmp/lights-$t-${opts// /}" $opts || return $?
+      echo
+    done
+  done
+}
+step lights $((cpu ? 120 : 90)) lights_runs
+cp "$tmp/lights.out" "$out/lights.txt"
 for scene in "${scenes[@]}"; do
   step "bench-${sizes[1]}-$scene" 120 bench "$scene, ${sizes[1]}: hard and 16 spp" --scenes "$scene" --res "${sizes[1]}" "${hard_soft[@]}"
 done
