@@ -149,6 +149,9 @@ class FrameContext {
   // A frame of several lights on a GPU tracer (--lights-trace one): this light's trace of every
   // covered pixel can join the one trace of its batch of lights (traceWithLights).
   bool tracesWithLights(const ShadowTracer& tracer) const;
+  // What joining its batch's trace last cost the light: that trace's time, shared by rays among the
+  // lights it traced (srt's --srt-choice auto); nullopt before the light joined one.
+  std::optional<double> joinedTraceMs(std::uint32_t light) const;
   // Instead of a trace of its own (TraceList::EveryCovered): the light joins its batch's trace, one
   // dispatch over the batch's traced lights, each pixel to each light its tile lists (trace_points.glsl),
   // recorded when the batch is shaded (shade()); settleTracedLights gives its visibility and rays.
@@ -218,8 +221,9 @@ class FrameContext {
   std::vector<TracedLight> tracedLights_;
   std::vector<std::uint32_t> withoutBuffers_;  // the frame's lights readBack keeps no buffers of
   void keepTracedLights();
-  gpu::Buffer lightsFrame_, lightsCount_;  // the batch trace's FrameData and TraceCount
-  std::uint32_t methodSpp_ = 1;            // the method's light samples per pixel (area lights take them)
+  gpu::Buffer lightsFrame_, lightsCount_;          // the batch trace's FrameData and TraceCount
+  std::map<std::uint32_t, double> joinedTraceMs_;  // by light index (joinedTraceMs)
+  std::uint32_t methodSpp_ = 1;                    // the method's light samples per pixel (area lights take them)
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
   std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
   bool coveredRead_ = false;

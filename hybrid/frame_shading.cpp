@@ -122,7 +122,21 @@ void FrameContext::shadeBatch(bool last, FrameStats& stats) {
   };
   add(stats.nodeVisits, report.nodeVisits);  // the batch's lights' traversal, counted where it ran
   add(stats.triangleTests, report.triangleTests);
-  for (const ShadePass::TracedLight& light : shade_.tracedLights()) tracedLights_.push_back({light, std::nullopt});
+  const std::vector<ShadePass::TracedLight> traced = shade_.tracedLights();
+  const auto passes = timer_.read();
+  const auto trace = std::find_if(passes.rbegin(), passes.rend(), [](const auto& p) { return p.first == "trace"; });
+  std::uint64_t rays = 0;
+  for (const ShadePass::TracedLight& light : traced) rays += light.rays;
+  for (const ShadePass::TracedLight& light : traced) {
+    tracedLights_.push_back({light, std::nullopt});
+    const double share = rays ? double(light.rays) / double(rays) : 1.0 / double(traced.size());
+    if (trace != passes.rend()) joinedTraceMs_[light.index] = trace->second * share;
+  }
+}
+
+std::optional<double> FrameContext::joinedTraceMs(std::uint32_t light) const {
+  const auto it = joinedTraceMs_.find(light);
+  return it == joinedTraceMs_.end() ? std::nullopt : std::optional<double>(it->second);
 }
 
 namespace {

@@ -141,18 +141,29 @@ class TracedMethod final : public Method {
                             std::to_string(*c.classifyMs) + " ms, trace every pixel " + std::to_string(*c.traceAllMs) +
                             " ms; the frame is the classify path's, its time both's");
     } else {
+      // Joining the frame's one trace of its lights (a frame of several lights on a GPU tracer) costs
+      // the light its share of that trace, which it learns by joining once: its trace-all time is then
+      // the share of its last join.
+      const bool canJoin = r.tracesWithLights(tracer);
+      if (c.joined) {
+        if (const std::optional<double> share = r.joinedTraceMs(r.lightIndex())) {
+          c.traceAllMs = share;
+          c.shareKnown = true;
+        }
+      }
       bool classify = *c.classifyMs <= *c.traceAllMs;
       const bool remeasure = ++c.frames % kRemeasureFrames == 0;
       if (remeasure) classify = !classify;
-      if (!classify && !remeasure && r.tracesWithLights(tracer)) {
-        // In the frame's one trace of its lights, whose cost is not this light's alone: its time
-        // stays the last one measured on its own, an upper bound (the light joins where that still
-        // wins, and may classify where joining would have won too).
+      if (canJoin && !c.shareKnown) classify = false;
+      c.joined = !classify && canJoin;
+      if (c.joined) {
         traceWithLights(r, tracer, stats);
         stats.notes.push_back(
             "srt traced every covered pixel in the trace of the frame's lights (--srt-choice auto): "
             "its classify path last took " +
-            std::to_string(*c.classifyMs) + " ms, this one on its own " + std::to_string(*c.traceAllMs) + " ms");
+            std::to_string(*c.classifyMs) + " ms, " +
+            (c.shareKnown ? "its share of that trace " : "this one on its own ") + std::to_string(*c.traceAllMs) +
+            " ms");
       } else {
         (classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, shade, stats);
         if (!classify) {
@@ -188,6 +199,8 @@ class TracedMethod final : public Method {
   struct Choice {                    // --srt-choice auto, per light of the frame: each path's last time
     std::optional<double> classifyMs, traceAllMs;
     std::uint64_t frames = 0;
+    bool joined = false;      // its last frame joined the frame's one trace of its lights
+    bool shareKnown = false;  // traceAllMs is its share of that trace (FrameContext::joinedTraceMs)
   };
   std::map<std::uint32_t, Choice> choices_;
   std::unique_ptr<DenoisePass> denoiser_;

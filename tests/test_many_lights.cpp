@@ -217,6 +217,41 @@ TEST(ManyLights, StillLampsKeepTheirOwnMapsWithinTheBudget) {
   expectValidationSilent();
 }
 
+// --srt-choice auto in a frame of several lights on a GPU tracer: after its first frame (the paper's,
+// both paths timed on their own) a lamp joins the frame's one trace of its lights once, learns its
+// share of that trace, and then weighs its classify path against that share; a joined lamp's frame is
+// frt's same lamp's, bit for bit.
+TEST(ManyLights, SrtChoiceWeighsItsShareOfTheLightsTrace) {
+  RenderSettings settings = smallSettings(96, 256);
+  settings.srtChoice = true;
+  SceneRun run("builtin:street:16", settings);
+  const std::vector<Light>& lamps = run.scene.lights;
+  const Frame full = run.renderer->render("frt", run.camera, lamps);
+  const auto noted = [](const Frame& f, const std::string& text) {
+    return std::any_of(f.stats.notes.begin(), f.stats.notes.end(),
+                       [&](const std::string& n) { return n.find(text) != std::string::npos; });
+  };
+  std::size_t shares = 0;
+  for (int frame = 0; frame < 4; ++frame) {
+    const Frame f = run.renderer->render("srt", run.camera, lamps);
+    for (std::size_t i = 0; i < lamps.size(); ++i) {
+      const Frame& lamp = f.lights[i];
+      if (!lamp.stats.srtPath) continue;  // culled
+      if (frame == 0) EXPECT_EQ(*lamp.stats.srtPath, "classify") << "lamp " << i;
+      if (frame == 1) EXPECT_TRUE(noted(lamp, "this one on its own")) << "lamp " << i << " joins to learn its share";
+      if (*lamp.stats.srtPath == "trace_all") {
+        EXPECT_GE(frame, 1) << "lamp " << i;
+        EXPECT_TRUE(noted(lamp, "in the trace of the frame's lights")) << "frame " << frame << ", lamp " << i;
+        EXPECT_EQ(lamp.visibility, full.lights[i].visibility) << "frame " << frame << ", lamp " << i;
+        EXPECT_EQ(lamp.stats.raysTraced, full.lights[i].stats.raysTraced) << "frame " << frame << ", lamp " << i;
+        if (frame >= 2) shares += noted(lamp, "its share of that trace");
+      }
+    }
+  }
+  EXPECT_GT(shares, 0u) << "lamps that joined weighed their share";
+  expectValidationSilent();
+}
+
 // srt and sm per light against the reference's same light: srt within the hard-shadow bound on
 // every light; sm, the map alone, wrong on more pixels.
 TEST(ManyLights, SrtMatchesTheReferenceOnEveryLight) {
