@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -364,6 +365,40 @@ TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
   // Switching to sm, which classifies nothing, leaves nothing to mark.
   const Changed none = changed(shot("sm", "none"), shot("sm", "pip"), true);
   EXPECT_EQ(none.pixels, 0u);
+}
+
+// A run of several lights: the PIP overlay marks the selected light's traced pixels (--select-light),
+// exactly those the CLI's srt traced for that lamp.
+TEST_F(DemoTest, OverlaysShowTheSelectedLight) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const std::string common =
+      "--scene builtin:street:4 --method srt --srt-choice off --res 96x96 --frames 1 --validate ";
+  auto shot = [&](const std::string& options, const std::string& file) {
+    const auto r =
+        demo(common + options + " --screenshot " + path(file) + " --save-view " + path("view.json"), x.display());
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return readPng(dir_ / file);
+  };
+  const Image plain = shot("--overlay none", "plain.png");
+  const auto cli = run("render --scene builtin:street:4 --view " + path("view.json") +
+                       " --method srt --srt-choice off --out " + path("cli"));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  std::ifstream statsFile(dir_ / "cli" / "srt.stats.json");
+  const nlohmann::json lamps = nlohmann::json::parse(statsFile).at("lights");
+  ASSERT_EQ(lamps.size(), 4u);
+  std::set<std::size_t> counts;
+  for (std::size_t lamp : {0u, 3u}) {
+    const Image marked = shot("--overlay pip --select-light " + std::to_string(lamp), "pip.png");
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < plain.rgba.size(); i += 4)
+      changed += !std::equal(&plain.rgba[i], &plain.rgba[i + 3], &marked.rgba[i]);
+    const std::size_t traced = lamps[lamp].at("pip_pixels").get<std::size_t>();
+    EXPECT_EQ(changed, traced) << "lamp " << lamp;
+    counts.insert(traced);
+  }
+  EXPECT_EQ(counts.size(), 2u) << "the lamps traced different pixels";
+  EXPECT_NE(demo(common + "--select-light 4", x.display()).exitCode, 0) << "the run has 4 lights";
 }
 
 TEST_F(DemoTest, MemoryStaysFlatOver2000Frames) {

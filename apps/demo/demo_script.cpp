@@ -20,6 +20,10 @@ void addScriptOptions(CLI::App& app, ScriptOptions& o) {
                "Also render the reference every frame and write its frame-to-frame change (ref_temporal_change)");
   app.add_option("--overlay", o.overlay, "Overlay: none, pip (traced pixels in red), mask (penumbra mask), thin, error")
       ->capture_default_str()->check(CLI::IsMember({"none", "pip", "mask", "thin", "error"}));
+  app.add_option("--select-light", o.selectLight,
+                 "The light selected at start (0 the first): the one the panel moves, --light-path turns, and the "
+                 "overlays and the error show")
+      ->capture_default_str();
   app.add_flag("--hide-ui", o.hideUi, "Do not draw the ImGui panels");
 }
 

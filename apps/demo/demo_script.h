@@ -25,6 +25,7 @@ struct ScriptOptions {
   std::string screenshot, statsCsv;
   bool temporalReference = false;
   std::string overlay = "none";
+  std::size_t selectLight = 0;  // the light selected at start
   bool hideUi = false;
 
   bool scripted() const { return frames > 0; }

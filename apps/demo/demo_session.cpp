@@ -169,6 +169,12 @@ const Frame* DemoSession::reference() const {
   return referenceKey_ && *referenceKey_ == currentKey() ? &reference_ : nullptr;
 }
 
+const std::vector<std::uint8_t>& DemoSession::selectedPip() const {
+  const std::optional<std::size_t> k = selectedPlace();
+  const bool ofKey = k && *k < frame_.lights.size() && lastKey_.lights.size() == frame_.lights.size();
+  return ofKey && !frame_.lights[*k].pip.empty() ? frame_.lights[*k].pip : frame_.pip;
+}
+
 std::vector<std::uint8_t> DemoSession::errorHeatmap() const {
   const Frame* reference = this->reference();
   if (!reference || reference->width != frame_.width || reference->height != frame_.height) {

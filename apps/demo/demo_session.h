@@ -68,6 +68,9 @@ class DemoSession {
   // |frame - reference| of the visibility as RGBA8 (core/metrics.h errorHeatmap; full scale 1 for
   // hard shadows, 0.25 for soft ones, as in `penumbra compare`). Needs reference().
   std::vector<std::uint8_t> errorHeatmap() const;
+  // The selected light's PIP flags in the last frame (what the pip, mask and thin overlays mark), or
+  // the frame's own (its first light's) where that light is hidden or the method classified nothing.
+  const std::vector<std::uint8_t>& selectedPip() const;
 
   View view() const;  // what --save-view writes: the camera and lights of the last render
 

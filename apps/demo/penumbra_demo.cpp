@@ -91,6 +91,7 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
   if (!script.statsCsv.empty()) csv.emplace(script.statsCsv);
   gpu::Context context({.validate = config.validate});
   DemoSession session(context, std::move(setup), method, !saveView.empty());
+  session.selectLight(script.selectLight);
   std::string renderedMethod = method;  // the last method that rendered a frame
   Presenter presenter;
   UiState ui;
@@ -158,7 +159,7 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
 
     std::vector<std::uint8_t> heatmap;
     if (ui.overlay == Overlay::Error && session.reference()) heatmap = session.errorHeatmap();
-    presenter.upload(session.frame(), heatmap);
+    presenter.upload(session.frame(), session.selectedPip(), heatmap);
     int fbWidth = 0, fbHeight = 0;
     window.framebufferSize(fbWidth, fbHeight);
     presenter.draw(fbWidth, fbHeight, ui.overlay);

@@ -133,7 +133,8 @@ void Presenter::allocate(std::uint32_t width, std::uint32_t height) {
   zeros_.assign(std::size_t(width) * height, 0);
 }
 
-void Presenter::upload(const Frame& frame, std::span<const std::uint8_t> errorHeatmap) {
+void Presenter::upload(const Frame& frame, std::span<const std::uint8_t> pipFlags,
+                       std::span<const std::uint8_t> errorHeatmap) {
   const std::size_t pixels = std::size_t(frame.width) * frame.height;
   if (frame.rgba.size() != pixels * 4) throw std::logic_error("Presenter::upload: frame has no RGBA image");
   if (frame.width != width_ || frame.height != height_) allocate(frame.width, frame.height);
@@ -141,7 +142,7 @@ void Presenter::upload(const Frame& frame, std::span<const std::uint8_t> errorHe
   glBindTexture(GL_TEXTURE_2D, image_);
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RGBA, GL_UNSIGNED_BYTE, frame.rgba.data());
   glBindTexture(GL_TEXTURE_2D, pip_);
-  const std::uint8_t* flags = frame.pip.size() == pixels ? frame.pip.data() : zeros_.data();
+  const std::uint8_t* flags = pipFlags.size() == pixels ? pipFlags.data() : zeros_.data();
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RED_INTEGER, GL_UNSIGNED_BYTE, flags);
   hasError_ = errorHeatmap.size() == pixels * 4;
   if (hasError_) {

@@ -25,7 +25,8 @@ class Presenter {
 
   // Uploads the frame's RGBA8 image and PIP flags (zeros when the method does not classify) and,
   // when given (width*height*4 bytes), the error heatmap.
-  void upload(const Frame& frame, std::span<const std::uint8_t> errorHeatmap = {});
+  void upload(const Frame& frame, std::span<const std::uint8_t> pipFlags,
+              std::span<const std::uint8_t> errorHeatmap = {});
   // Clears the framebuffer and draws the frame with `overlay`, scaled by whole texels where it
   // fits and otherwise by the largest factor that keeps the aspect, centred, nearest sampling.
   // Overlay::Error without an uploaded heatmap draws the plain image.
