@@ -79,8 +79,8 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
                 vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress,
                 "blocker distances"),
       timer_(context) {
-  std::memset(blockers_.data(), 0, blockers_.size());
-  movingBounds_ = movingMeshBounds(scene);  // 0: no blocker known (a CPU tracer never writes them)
+  std::memset(blockers_.data(), 0, blockers_.size());  // 0: no blocker known (a CPU tracer never writes them)
+  movingBounds_ = movingMeshBounds(scene);
 }
 
 FrameContext::~FrameContext() = default;
