@@ -218,6 +218,23 @@ std::string referenceFor(const std::string& method) {
   return term == Term::Shadow ? "ref" : std::string(termName(term)) + "-embree";
 }
 
+namespace {
+// --light-error: what the light's visibility errors changed each covered pixel's shaded value by
+// (its shadow weight times |visibility - reference|) added to `sum`; their largest.
+double addShadeError(const Frame& light, const Frame& reference, const std::vector<std::uint8_t>& covered,
+                     std::vector<double>& sum) {
+  double largest = 0.0;
+  sum.resize(covered.size(), 0.0);
+  for (std::size_t p = 0; p < covered.size(); ++p) {
+    if (!covered[p]) continue;
+    const double e = double(light.shadowWeight[p]) * std::abs(double(light.visibility[p]) - reference.visibility[p]);
+    largest = std::max(largest, e);
+    sum[p] += e;
+  }
+  return largest;
+}
+}  // namespace
+
 std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool soft, std::vector<float>* flip) {
   if (!frame.lights.empty()) {  // each light against the reference's same light; the frame over them all
     if (reference.lights.size() != frame.lights.size()) throw std::logic_error("judged against another set of lights");
@@ -225,11 +242,15 @@ std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool 
         compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, flip);
     std::vector<float> all, allReference;
     std::vector<std::uint8_t> covered;
+    std::vector<double> shadeError;  // --light-error: per pixel, over the lights
     for (std::size_t i = 0; i < frame.lights.size(); ++i) {
       Frame& light = frame.lights[i];
       const Frame& ref = reference.lights[i];
       const float threshold = ref.stats.samplesPerPixel > 1 ? kWrongThresholdSoft : kWrongThresholdHard;
       light.stats.error = compareVisibility(light.visibility, ref.visibility, reference.covered, threshold);
+      if (!light.shadowWeight.empty()) {
+        light.stats.lightErrorMax = addShadeError(light, ref, reference.covered, shadeError);
+      }
       if (!light.pip.empty()) {
         light.stats.pipMissFraction =
             missFraction(light.shadowMapVisibility, ref.visibility, reference.covered, light.pip, threshold);
@@ -240,6 +261,7 @@ std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool 
       covered.insert(covered.end(), reference.covered.begin(), reference.covered.end());
     }
     frame.stats.error = compareVisibility(all, allReference, covered, soft ? kWrongThresholdSoft : kWrongThresholdHard);
+    if (!shadeError.empty()) frame.stats.lightErrorMax = *std::max_element(shadeError.begin(), shadeError.end());
     return std::nullopt;
   }
   const float threshold = soft ? kWrongThresholdSoft : kWrongThresholdHard;
@@ -248,6 +270,10 @@ std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool 
   frame.stats.error = compareVisibility(frame.visibility, reference.visibility, reference.covered, wrong);
   frame.stats.imageError =
       compareImages(frame.rgba, reference.rgba, reference.covered, frame.width, frame.height, flip);
+  if (!frame.shadowWeight.empty()) {
+    std::vector<double> shadeError;
+    frame.stats.lightErrorMax = addShadeError(frame, reference, reference.covered, shadeError);
+  }
   if (frame.pip.empty()) return std::nullopt;
   frame.stats.pipMissFraction =
       missFraction(frame.shadowMapVisibility, reference.visibility, reference.covered, frame.pip, threshold);

@@ -6,7 +6,7 @@
 # pixels and pip_miss against the reference's same lamp, the shaded image's rmse, the maps' texels,
 # and the frame's cost over the same street lit by its first lamp alone; the largest street again with
 # a trace dispatch per lamp (--lights-trace each), and with each lamp keeping its own maps
-# (--reuse-light-passes on). Release build, warm-up 1, median of REPEAT.
+# (--reuse-light-passes on), and with --light-error 0.01. Release build, warm-up 1, median of REPEAT.
 # Writes bench/results/lights.{csv,md} and lights.machine.txt.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -40,6 +40,11 @@ last=${LAMPS##* }
 ./build/bin/penumbra compare --scene "builtin:street:$last" --methods sm,srt --tracer bvh --res "$RES" --warmup 1 \
   --repeat "$REPEAT" --reuse-light-passes on --no-report --out "$runs/keep$last" | tail -n 3
 
+# and with --light-error 0.01: where a lamp's shadow changes a pixel's shade by less than 1% of white,
+# srt keeps its map's answer and frt the lamp unshadowed, tracing no ray there
+./build/bin/penumbra compare --scene "builtin:street:$last" --methods srt,frt --tracer bvh --res "$RES" --warmup 1 \
+  --repeat "$REPEAT" --light-error 0.01 --no-report --out "$runs/eps$last" | tail -n 3
+
 echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(./build/bin/penumbra device 2>/dev/null | grep -m1 '"driver"' | cut -d'"' -f4)" |
   tee bench/results/lights.machine.txt
 /usr/bin/python3 - "$runs" "$LAMPS" "$RES" <<'EOF'
@@ -47,7 +52,8 @@ import csv, json, os, sys
 runs, counts, res = sys.argv[1], sys.argv[2].split(), sys.argv[3]
 rows, alone = [], {}
 for n in counts:
-    runs_of = [(n, "all"), ("one" + n, "first")] + ([("each" + n, "each"), ("keep" + n, "keep")] if n == counts[-1] else [])
+    runs_of = [(n, "all"), ("one" + n, "first")] + (
+        [("each" + n, "each"), ("keep" + n, "keep"), ("eps" + n, "eps")] if n == counts[-1] else [])
     for run, lit in runs_of:
         m = json.load(open(os.path.join(runs, run, "metrics.json")))
         for s in ([m["reference"]] if lit in ("all", "first") else []) + m["methods"]:
@@ -63,14 +69,15 @@ for n in counts:
             wrong = [l["error"]["wrong_pixel_fraction"] for l in lights if l.get("error")]
             mapped = [l for l in lights if (l.get("counts") or {}).get("shadow_map_texels")]
             rows.append({
-                "lamps": int(n), "method": s["method"] + {"each": " (each)", "keep": " (kept maps)"}.get(lit, ""),
+                "lamps": int(n),
+                "method": s["method"] + {"each": " (each)", "keep": " (kept maps)", "eps": " (ε 0.01)"}.get(lit, ""),
                 "reached": reached, "total_ms": t["total"],
                 "shadow_map_ms": t.get("shadow_map", 0.0), "lookup_ms": t.get("lookup", 0.0),
                 "classify_ms": t.get("classify", 0.0) + t.get("thin_pass", 0.0), "trace_ms": t.get("trace", 0.0),
                 "gbuffer_ms": t.get("gbuffer", 0.0), "shade_ms": t.get("shade", 0.0),
                 "rays": s.get("rays_traced") or 0, "pip_fraction": s.get("pip_fraction"),
                 "worst_wrong": max(wrong) if wrong else None, "worst_pip_miss": worst("pip_miss_fraction"),
-                "image_rmse": (s.get("image_error") or {}).get("rmse"),
+                "image_rmse": (s.get("image_error") or {}).get("rmse"), "light_error_max": s.get("light_error_max"),
                 "map_texels": (s.get("counts") or {}).get("shadow_map_texels", 0),
                 "maps_rendered": sum(1 for l in mapped if "shadow_map" not in l.get("reused_passes", [])),
                 "maps_mib": max([(l.get("memory_bytes") or {}).get("light_maps", 0) for l in lights] + [0]) / 2**20})
@@ -94,18 +101,21 @@ with open("bench/results/lights.md", "w") as f:
             "default); rows `(each)`: a dispatch per lamp, in the same run. Rows `(kept maps)`: each still lamp keeps "
             "maps of its own (`--reuse-light-passes on`, the demo's default, within `--light-maps-memory`), rendered by the "
             "warm-up frame. Maps rendered: the lamps that rendered their map in the frame; maps MiB: what every lamp's maps, "
-            "thin masks and edge pyramids hold.\n\n")
+            "thin masks and edge pyramids hold. Rows `(ε 0.01)`: `--light-error 0.01`, where a lamp's shadow can change a "
+            "pixel's shaded value by less than 0.01 (linear, of white) srt keeps its map's answer and frt takes the lamp "
+            "unshadowed, tracing no ray there; shade error: the most the lamps' visibility errors changed a pixel's shaded "
+            "value against the reference (linear, summed over the lamps).\n\n")
     f.write("| lamps | method | reached | total | shadow map | lookup | classify | trace | G-buffer | shade | rays | PIP % | "
-            "worst lamp wrong % | worst pip_miss % | image rmse | map Mtexels | maps rendered | maps MiB | first lamp alone | "
-            "× alone |\n")
-    f.write("|" + "---|" * 20 + "\n")
+            "worst lamp wrong % | worst pip_miss % | image rmse | shade error | map Mtexels | maps rendered | maps MiB | "
+            "first lamp alone | × alone |\n")
+    f.write("|" + "---|" * 21 + "\n")
     for r in rows:
         pip = None if r["pip_fraction"] is None else 100 * r["pip_fraction"]
         f.write(f"| {r['lamps']} | {r['method']} | {r['reached']} | {r['total_ms']:.1f} | {r['shadow_map_ms']:.1f} | "
                 f"{r['lookup_ms']:.1f} | {r['classify_ms']:.1f} | {r['trace_ms']:.1f} | {r['gbuffer_ms']:.1f} | "
                 f"{r['shade_ms']:.1f} | {r['rays']:,} | {fmt(pip, '{:.2f}')} | "
                 f"{fmt(None if r['worst_wrong'] is None else 100 * r['worst_wrong'])} | "
-                f"{fmt(None if r['worst_pip_miss'] is None else 100 * r['worst_pip_miss'])} | {fmt(r['image_rmse'], '{:.4f}')} | "
+                f"{fmt(None if r['worst_pip_miss'] is None else 100 * r['worst_pip_miss'])} | {fmt(r['image_rmse'], '{:.4f}')} | {fmt(r['light_error_max'], '{:.4f}')} | "
                 f"{r['map_texels'] / 1e6:.1f} | {r['maps_rendered']} | {r['maps_mib']:.0f} | {r['first_lamp_alone_ms']:.1f} | {r['total_ms'] / r['first_lamp_alone_ms']:.2f} |\n")
     f.write(f"\nMachine: {open('bench/results/lights.machine.txt').read().strip()}\n")
 print("wrote", out, "and bench/results/lights.md")

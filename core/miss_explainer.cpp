@@ -24,6 +24,8 @@ std::string missCauseName(MissCause cause) {
     case MissCause::BlockerMissing: return "blocker_missing_from_map";
     case MissCause::GapClosed: return "gap_closed_by_map";
     case MissCause::Unexplained: return "unexplained";
+    case MissCause::BelowLightError:
+      return "below_light_error";
     case MissCause::Count: break;
   }
   return "?";
@@ -44,6 +46,8 @@ MissCause causeOf(std::uint8_t why, bool smLit) {
     case PIP_WHY_INTERVAL: return MissCause::EdgeOutsideInterval;
     case PIP_WHY_DELTA: return MissCause::EdgeBelowThreshold;
     case PIP_WHY_FLAT: return smLit ? MissCause::BlockerMissing : MissCause::GapClosed;
+    case PIP_WHY_LIGHT_ERROR:
+      return MissCause::BelowLightError;
     default: return MissCause::Unexplained;
   }
 }
@@ -70,9 +74,9 @@ MissReport explainMisses(std::span<const float> smVisibility, std::span<const st
 
 std::vector<std::uint8_t> missImage(const MissReport& report, std::span<const std::uint8_t> covered) {
   // One colour per cause, in MissCause order (None unused).
-  static constexpr std::uint8_t kColours[][3] = {{0, 0, 0},     {255, 0, 255}, {255, 140, 0}, {255, 255, 0},
-                                                 {0, 160, 255}, {0, 255, 255}, {255, 0, 0},   {0, 255, 0},
-                                                 {255, 255, 255}};
+  static constexpr std::uint8_t kColours[][3] = {{0, 0, 0},       {255, 0, 255},  {255, 140, 0}, {255, 255, 0},
+                                                 {0, 160, 255},   {0, 255, 255},  {255, 0, 0},   {0, 255, 0},
+                                                 {255, 255, 255}, {110, 130, 170}};
   static_assert(std::size(kColours) == std::size_t(MissCause::Count));
   std::vector<std::uint8_t> rgba(report.perPixel.size() * 4, 0);
   for (std::size_t i = 0; i < report.perPixel.size(); ++i) {

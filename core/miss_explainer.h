@@ -21,6 +21,7 @@ enum class MissCause : std::uint8_t {
   BlockerMissing,       // the map is flat and lights the receiver; a blocker it does not hold
   GapClosed,            // the map is flat and dark; light comes through a gap it closed
   Unexplained,          // the classification wrote no reason (e.g. area lights)
+  BelowLightError,      // the light's shadow weighs less than --light-error there: the map's answer kept
   Count
 };
 
@@ -43,7 +44,7 @@ MissReport explainMisses(std::span<const float> smVisibility, std::span<const st
 
 // RGBA8 image: misses coloured by cause over a dark grey of the covered pixels: facing away magenta,
 // acne orange, blocker within bias yellow, edge outside interval blue, edge below threshold cyan,
-// blocker missing red, gap closed green, unexplained white.
+// blocker missing red, gap closed green, unexplained white, below --light-error grey-blue.
 std::vector<std::uint8_t> missImage(const MissReport& report, std::span<const std::uint8_t> covered);
 
 }  // namespace penumbra

@@ -370,6 +370,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
     if (slot.count > 1) shade_.beginLights(slot.count, settings_.width, settings_.height);
   }
   frameData_.light = toGpuLight(light, bounds_, settings_.rayEpsilon);
+  frameData_.lightError = settings_.lightError;
   frameData_.light.sampleFrame = frame;
   frameData_.light.sharedPattern = settings_.sharedSamples || method.sharedSamplePattern() ? 1u : 0u;
   mapSettings_ = settings_.shadowMap;
@@ -456,6 +457,12 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     covered_.resize(positions.size());
     for (std::size_t i = 0; i < positions.size(); ++i) covered_[i] = positions[i].w != 0.0f;
     coveredRead_ = true;
+    positions_.clear();
+    normals_.clear();
+    if (settings_.lightError > 0.0f) {
+      positions_ = positions;
+      normals_ = gbuffer_.normals();
+    }
   }
   const bool last = slot_.order + 1 == slot_.count;
   if (slot_.buffers || last) frame.covered = covered_;  // the last light's is the frame's
@@ -488,6 +495,24 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
                            std::uint8_t(1));
     }
     stats.pipPixels = traced;
+  }
+  if (settings_.lightError > 0.0f && (method.classifies() || frameData_.traceInPlace)) {
+    // --light-error: the pixels where the light's shadow weighs less than it (an approximate answer
+    // stands there: the map's, or unshadowed in a trace in place, which traced only the others)
+    std::vector<float> weights(pixels, 0.0f);
+    std::uint64_t slight = 0, slightInRect = 0;
+    const glm::uvec4 rect = lightRect();
+    for (std::size_t i = 0; i < pixels; ++i) {
+      if (!covered_[i]) continue;
+      weights[i] = shared::shadowWeight(frameData_.light, glm::vec3(positions_[i]), glm::vec3(normals_[i]));
+      if (weights[i] >= settings_.lightError) continue;
+      slight += weights[i] > 0.0f;
+      const glm::uvec2 pixel(i % frame.width, i / frame.width);
+      slightInRect += pixel.x >= rect.x && pixel.y >= rect.y && pixel.x < rect.z && pixel.y < rect.w;
+    }
+    stats.counts["light_error_pixels"] = slight;
+    if (frameData_.traceInPlace && stats.pipPixels) stats.pipPixels = *stats.pipPixels - slightInRect;
+    if (slot_.buffers) frame.shadowWeight = std::move(weights);
   }
   if (stats.pipPixels) {
     stats.pipFraction = covered ? double(*stats.pipPixels) / double(covered) : 0.0;

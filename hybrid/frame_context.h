@@ -55,6 +55,9 @@ struct Frame {
   std::vector<std::uint8_t> pip;      // methods that classify: PIP_* flags per pixel (0 = not traced)
   std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
   std::vector<std::uint8_t> pipWhy;        // with settings.pip.explain, hard shadows: PIP_WHY_* per pixel
+  // --light-error, methods that honour it: the light's shared::shadowWeight per pixel (judgeFrame:
+  // the error its approximate answers caused)
+  std::vector<float> shadowWeight;
   FrameStats stats;
   // A frame of several lights: each light's visibility, PIP flags, sm answer and stats (no image);
   // visibility, pip and shadowMapVisibility above are the first light's.
@@ -225,7 +228,8 @@ class FrameContext {
   std::map<std::uint32_t, double> joinedTraceMs_;  // by light index (joinedTraceMs)
   std::uint32_t methodSpp_ = 1;                    // the method's light samples per pixel (area lights take them)
   bool gbufferRecorded_ = false;  // this frame's G-buffer is already rendered (by fitLightToView)
-  std::vector<std::uint8_t> covered_;  // the G-buffer's coverage, read back once per G-buffer
+  std::vector<std::uint8_t> covered_;           // the G-buffer's coverage, read back once per G-buffer
+  std::vector<glm::vec4> positions_, normals_;  // ... and, with --light-error, its points
   bool coveredRead_ = false;
   // What the shadow map and the edge pyramid were last rendered from (settings_.reuseLightPasses):
   // the map's placement and the last geometry version whose move reached what the map sees.

@@ -51,6 +51,7 @@ nlohmann::json FrameStats::toJson() const {
       {"pip_pixels", orNull(pipPixels)},
       {"pip_miss_fraction", orNull(pipMissFraction)},
       {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
+      {"light_error_max", orNull(lightErrorMax)},
       {"miss_causes", orNull(missCauses)},
       {"notes", notes},
       {"traversal", nodeVisits

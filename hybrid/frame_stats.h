@@ -25,6 +25,9 @@ struct FrameStats {
   std::optional<std::uint64_t> pipPixels;       // pixels handed to the tracer
   std::optional<double> pipMissFraction;        // of the pixels sm gets wrong, those not traced (when compared)
   std::optional<double> penumbraMissFraction;   // of the reference's penumbra pixels (0 < v < 1), those not traced
+  // --light-error, when compared: the most the method's visibility errors changed a pixel's shaded
+  // value (linear: shared::shadowWeight times |visibility - reference|, summed over the frame's lights)
+  std::optional<double> lightErrorMax;
   std::optional<std::map<std::string, std::uint64_t>> missCauses;  // --explain-misses: missed pixels by cause
   std::vector<std::string> notes;               // what a reader of the numbers should know
   std::optional<std::uint64_t> nodeVisits;      // traversal steps, where the tracer counts them

@@ -36,6 +36,11 @@ const Options<RenderSettings>& renderOptions() {
              "A frame of several lights on a GPU tracer: frt (and srt where it traces every covered pixel) traces its "
              "lights in one dispatch per batch of lights (one), or each light in a dispatch of its own (each)",
              {{"one", true}, {"each", false}});
+    o.number("--light-error", "light_error", &S::lightError,
+             "srt and frt on a GPU tracer: where a light's shadow can change a pixel's shaded value by less than this "
+             "(linear, 0..1 per channel: the light's unshadowed direct term there), srt keeps the map's answer and frt "
+             "takes the light unshadowed, tracing no ray; the image errs there by less than it per light (0: exact)",
+             0.0f, 1.0f);
     o.flag("--simulate-bandwidth", "simulate_bandwidth", &S::simulateBandwidth,
            "srt/frt on the bvh tracer: replay the trace on the CPU and report its simulated memory traffic");
     o.group("Selective ray tracing (srt)");

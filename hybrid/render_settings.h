@@ -39,6 +39,10 @@ struct RenderSettings {
   // lights that take that path in one dispatch per batch of lights (FrameContext::traceWithLights),
   // not one per light.
   bool oneLightsTrace = true;
+  // --light-error: where a light's shadow changes a pixel's shaded value by less than this (linear
+  // units, shared::shadowWeight), srt keeps the map's answer and an in-place trace takes the light
+  // unshadowed, without rays; the image errs there by less than it per light. 0: every pixel exact.
+  float lightError = 0.0f;
   // A frame whose light map would be the last one's (same map placement, geometry unmoved) keeps
   // the last shadow map and edge pyramid instead of rendering them again, as an engine keeps a
   // still light's map (--reuse-light-passes; the demo's default). Off: every frame renders them.

@@ -73,6 +73,11 @@ class TracedMethod final : public Method {
       choose(r, tracer, shade, stats);
     }
     if (r.settings().simulateBandwidth) simulateBandwidth(r, tracer, *lastJob_, classified_, stats);
+    if (r.settings().lightError > 0.0f && !classified_ && r.frameData().traceInPlace == 0u) {
+      stats.notes.push_back(
+          "--light-error applies to srt's classification and to traces in place (a GPU tracer "
+          "without --simulate-bandwidth): this frame traced every covered pixel");
+    }
     const bool binaryLineSpace = r.settings().lineSpace.shadows == LineSpaceSettings::Shadows::Binary;
     if (tracer.name() == "ls" && binaryLineSpace && hasCutouts(r.scene())) {
       stats.notes.push_back("ls in binary mode shadows cut-outs solid: its shafts hold whole triangles "

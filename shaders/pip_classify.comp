@@ -243,9 +243,11 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   bool area = isAreaLight(light);
   float halfExtent = light.type == LIGHT_RECT ? light.size * 0.70710678 : light.size * 0.5;
   float facing = dot(n, light.position.xyz - p);  // > halfExtent: every light point is above the tangent plane
+  // --light-error: the light's shadow changes this pixel's shade by less than it: the map's answer stands
+  bool slight = frame.lightError > 0.0 && shadowWeight(light, p, n) < frame.lightError;
   if (!lightReaches(light, p, n, light.position.xyz)) {
     // An area light may still be partly above the receiver's tangent plane: trace those.
-    bool partly = area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
+    bool partly = !slight && area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
     if (push.explain != 0u && !corner) why[index] = PIP_WHY_FACING;
     return corner ? 0u : write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0, rayEnd);
   }
@@ -259,10 +261,11 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   vec3 ndc = clip.xyz / clip.w;
   vec2 uv = ndc.xy * 0.5 + 0.5;
   if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
-    return corner ? 0u : write(index, 1.0, PIP_OUTSIDE, 0.0, rayEnd);
+    return corner ? 0u : write(index, 1.0, slight ? 0u : PIP_OUTSIDE, 0.0, rayEnd);
   }
   int res = int(frame.shadow.resolution);
   ivec2 t = ivec2(floor(uv * float(res)));
+  if (corner && slight) return 0u;
   if (corner) {
     vec2 window = withinReach(splatCone(offsetP, viewProj, t), face, linearDepth(ndc.z), PYRAMID_EDGES,
                               MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0)));  // edges need no plane
@@ -279,6 +282,10 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   }
   float raw = LIGHT_TEXEL(shadowMap, shadowTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
   float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
+  if (slight) {
+    if (push.explain != 0u) why[index] = PIP_WHY_LIGHT_ERROR;
+    return write(index, vis, 0u, 0.0, rayEnd);
+  }
 
   uint flags = 0u;
   float thinDepth = frame.shadow.farPlane;

@@ -21,8 +21,6 @@ layout(std430, binding = SHADE_BINDING_LIGHTS) readonly buffer Lights { ShadeLig
 layout(std430, binding = SHADE_BINDING_TILES) readonly buffer Tiles { uint tiles[]; };
 layout(push_constant) uniform Push { ShadePush push; };
 
-const float kAmbient = 0.12;
-
 // The direct light of `light` at p, seen `visible` of it.
 vec3 directLight(GpuLight light, vec3 p, vec3 n, float visible) {
   vec3 l = directionToLight(light, p, light.position.xyz);
@@ -62,7 +60,7 @@ void main() {
     }
     vec4 extra = push.term != 0u ? indirect[index] : vec4(0.0);
     if (push.term == 2u) direct += extra.rgb;
-    rgb = imageLoad(gAlbedo, pix).rgb * (kAmbient * (1.0 - extra.a) + (1.0 - kAmbient) * direct);
+    rgb = imageLoad(gAlbedo, pix).rgb * (SHADE_AMBIENT * (1.0 - extra.a) + (1.0 - SHADE_AMBIENT) * direct);
   }
   color[index] = packUnorm4x8(vec4(pow(clamp(rgb, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0));
 }

@@ -42,6 +42,18 @@ bool tracePoint(uint index, out ShadingPoint point) {
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer TraceLights { ShadeLight v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer TraceTiles { uint v[]; };
 
+// The point's visibility of `light`: traced, or - in a trace in place, where the light's shadow
+// changes the pixel's shade by less than --light-error (shadowWeight) - unshadowed by the rule,
+// without a ray (a compacted list holds no such point: the classification kept the map's answer).
+float slightOrTraced(ShadingPoint point, GpuLight light, uvec2 blockers, inout uint rays) {
+  if (frame.traceInPlace != 0u && frame.lightError > 0.0 &&
+      shadowWeight(light, point.position, point.normal) < frame.lightError) {
+    if (blockers != uvec2(0u)) BlockerDistances(blockers).v[point.pixel] = 0.0;  // none known
+    return lightReaches(light, point.position, point.normal, light.position.xyz) ? 1.0 : 0.0;
+  }
+  return shadowVisibility(point, light, blockers, rays);
+}
+
 // The invocation's point traced to FrameData's light into visibility[point.pixel]; or, in the trace
 // of a batch of lights (FrameData::traceLights), to each light its tile lists that the batch
 // traces, into that light's part of the batch's visibility, the rays counted per light. Adds the rays traced to `rays`.
@@ -50,7 +62,7 @@ void traceShadows(inout uint rays) {
   ShadingPoint point;
   bool valid = tracePoint(index, point);
   if (frame.traceLights == uvec2(0u)) {
-    if (valid) visibility[point.pixel] = shadowVisibility(point, frame.light, frame.blockers, rays);
+    if (valid) visibility[point.pixel] = slightOrTraced(point, frame.light, frame.blockers, rays);
     return;
   }
   // The rectangle starts at a tile's corner and is whole tiles wide, so that a workgroup (two
@@ -69,7 +81,7 @@ void traceShadows(inout uint rays) {
       bool wholeImage = rect == uvec4(0u, 0u, frame.width, frame.height);
       GpuLight light = lights.v[k].light;
       point.spp = lightSampleCount(light, frame.spp);  // FrameData::spp: the method's samples per pixel
-      float visible = valid ? shadowVisibility(point, light, uvec2(0u), lightRays) : wholeImage ? 1.0f : 0.0f;
+      float visible = valid ? slightOrTraced(point, light, uvec2(0u), lightRays) : wholeImage ? 1.0f : 0.0f;
       visibility[lights.v[k].offset + (pix.y - rect.y) * (rect.z - rect.x) + pix.x - rect.x] = visible;
     }
     rays += lightRays;

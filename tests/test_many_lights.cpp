@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/run_config.h"
 #include "cli_fixture.h"
 #include "core/camera.h"
 #include "core/gpu_light.h"
@@ -249,6 +250,77 @@ TEST(ManyLights, SrtChoiceWeighsItsShareOfTheLightsTrace) {
     }
   }
   EXPECT_GT(shares, 0u) << "lamps that joined weighed their share";
+  expectValidationSilent();
+}
+
+// --light-error ε: where a lamp's shadow weighs less than ε (shared::shadowWeight), srt keeps its map's
+// answer and frt takes the lamp unshadowed, tracing no ray there. Against the reference: each lamp's
+// visibility errors change no pixel's shade by ε or more; the image itself (shaded by shade.comp, so
+// independent of the weight's formula) differs from the reference's by no more than the weighted
+// errors summed over the lamps, up to 8-bit rounding (a white street: the weight's albedo of 1 is
+// the surface's, so a weight too small shows); fewer rays are traced; and the reference ignores the
+// option. The street's lamps are exact without it.
+TEST(ManyLights, LightErrorBoundsWhatEachLightChanges) {
+  constexpr float kEpsilon = 0.03f;
+  Scene street = loadScene("builtin:street:16");
+  for (Mesh& mesh : street.meshes) mesh.baseColor = glm::vec3(1.0f);
+  RenderSettings settings = smallSettings(128, 512);
+  SceneRun exact(street, settings);
+  settings.lightError = kEpsilon;
+  SceneRun slight(street, settings);
+  const std::vector<Light>& lamps = exact.scene.lights;
+  const Frame ref = exact.renderer->render("ref", exact.camera, lamps);
+  const Frame refSlight = slight.renderer->render("ref", slight.camera, lamps);
+  for (std::size_t i = 0; i < lamps.size(); ++i) {
+    EXPECT_EQ(refSlight.lights[i].visibility, ref.lights[i].visibility) << "lamp " << i;
+    EXPECT_TRUE(refSlight.lights[i].shadowWeight.empty()) << "the reference approximates nothing";
+  }
+  // an sRGB byte's linear interval
+  const auto lo = [](int b) { return std::pow(std::max(b - 0.5, 0.0) / 255.0, 2.2); };
+  const auto hi = [](int b) { return std::pow(std::min(b + 0.5, 255.0) / 255.0, 2.2); };
+  const std::size_t pixels = ref.covered.size();
+  for (const char* method : {"frt", "srt"}) {
+    Frame before = exact.renderer->render(method, exact.camera, lamps);
+    Frame frame = slight.renderer->render(method, slight.camera, lamps);
+    judgeFrame(before, ref, false, nullptr);
+    judgeFrame(frame, ref, false, nullptr);
+    std::vector<double> bound(pixels, 0.0);
+    std::uint64_t raysBefore = 0, rays = 0, slightPixels = 0, wrong = 0;
+    for (std::size_t i = 0; i < lamps.size(); ++i) {
+      const Frame& lamp = frame.lights[i];
+      raysBefore += before.lights[i].stats.raysTraced.value_or(0);
+      rays += lamp.stats.raysTraced.value_or(0);
+      EXPECT_EQ(before.lights[i].stats.error->wrongPixelFraction, 0.0) << method << ", lamp " << i;
+      EXPECT_TRUE(before.lights[i].shadowWeight.empty());
+      if (lamp.shadowWeight.empty()) continue;  // culled
+      ASSERT_TRUE(lamp.stats.lightErrorMax) << method << ", lamp " << i;
+      EXPECT_LT(*lamp.stats.lightErrorMax, kEpsilon * (1.0 + 1e-5)) << method << ", lamp " << i;
+      slightPixels += lamp.stats.counts.at("light_error_pixels");
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (!ref.covered[p]) continue;
+        const double e = std::abs(double(lamp.visibility[p]) - ref.lights[i].visibility[p]);
+        bound[p] += lamp.shadowWeight[p] * e;
+        wrong += e > 0.5;
+      }
+    }
+    std::size_t over = 0;
+    for (std::size_t p = 0; p < pixels; ++p) {
+      if (!ref.covered[p]) continue;
+      for (int c = 0; c < 3; ++c) {
+        const int a = frame.rgba[4 * p + c], b = ref.rgba[4 * p + c];
+        const double gap = a > b ? lo(a) - hi(b) : b > a ? lo(b) - hi(a) : 0.0;
+        over += gap > bound[p] + 1e-6;
+      }
+    }
+    std::cout << method << ": " << raysBefore << " -> " << rays << " rays, " << slightPixels
+              << " lamp pixels below epsilon, " << wrong << " of them wrong, largest shade change "
+              << *frame.stats.lightErrorMax << "\n";
+    EXPECT_EQ(over, 0u) << method << ": pixels whose image changed by more than the lamps' weighted errors";
+    EXPECT_GT(wrong, 0u) << method << ": the approximation changed some answers";
+    EXPECT_GT(slightPixels, wrong);
+    EXPECT_LT(rays, raysBefore) << method;
+    EXPECT_GT(*frame.stats.lightErrorMax, 0.0);
+  }
   expectValidationSilent();
 }
 

@@ -57,7 +57,8 @@ struct FrameData {
   uvec2 traceLights;
   uvec2 traceTiles;
   uint traceTilesX;  // tiles per row of the lists
-  uint pad0, pad1, pad2;
+  float lightError;  // --light-error: where shadowWeight is below it, a pixel may keep an approximate answer; 0: none
+  uint pad1, pad2;
 };
 
 PN_FN bool inLightRect(uvec2 lo, uvec2 hi, uint x, uint y) {

@@ -138,6 +138,20 @@ PN_FN float lightFalloff(GpuLight light, vec3 p, vec3 l) {
   return w;
 }
 
+// The shading pass's ambient share of the albedo (shade.comp): the lights' direct sum scales the rest.
+#define SHADE_AMBIENT 0.12f
+
+// The most the light's visibility at p (G-buffer normal n) can change p's shaded value, in linear
+// units per colour channel: the shading pass's direct term of the light, unshadowed, for the largest
+// channel of its colour and an albedo of 1. Where it is below FrameData::lightError (--light-error)
+// a method may keep an approximate answer (the map's, or unshadowed by the rule: lightReaches) and
+// the image errs there by less than that.
+PN_FN float shadowWeight(GpuLight light, vec3 p, vec3 n) {
+  vec3 l = directionToLight(light, p, vec3(light.position));
+  float colour = max(max(light.color.x, light.color.y), light.color.z);
+  return (1.0f - SHADE_AMBIENT) * colour * max(dot(n, l), 0.0f) * lightFalloff(light, p, l);
+}
+
 // Corner i (0..3) of a rect light; for a disk the rim points on its two axes. The maps from these
 // points (--penumbra-maps 5) see edges the centre's map may hide.
 PN_FN vec3 lightCorner(GpuLight light, uint i) {

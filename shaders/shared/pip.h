@@ -48,7 +48,8 @@ PN_BEGIN
 #define PIP_WHY_DELTA 4u     // a depth edge below the threshold (spread above the margin)
 #define PIP_WHY_FLAT 5u      // a flat neighbourhood away from the receiver: a blocker the map lacks
                              // (sm lit) or a gap the map closed (sm dark)
-#define PIP_WHY_COUNT 6u
+#define PIP_WHY_LIGHT_ERROR 6u  // the light's shadow weighs less than --light-error there (shadowWeight)
+#define PIP_WHY_COUNT 7u
 
 struct PipPush {  // 64 bytes
   float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
