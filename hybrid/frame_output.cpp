@@ -19,21 +19,40 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
+namespace {
+
+// The pixels handed to the tracer, in red over the image (paper Fig. 4).
+void writePipOverlay(const std::string& path, const Frame& frame, const std::vector<std::uint8_t>& pip) {
+  std::vector<std::uint8_t> overlay = frame.rgba;
+  for (std::size_t i = 0; i < pip.size(); ++i) {
+    if (!pip[i]) continue;
+    overlay[4 * i + 0] = std::uint8_t(0.35f * overlay[4 * i + 0] + 0.65f * 255.0f);
+    overlay[4 * i + 1] = std::uint8_t(0.35f * overlay[4 * i + 1]);
+    overlay[4 * i + 2] = std::uint8_t(0.35f * overlay[4 * i + 2]);
+  }
+  writePngRgba8(path, int(frame.width), int(frame.height), overlay);
+}
+
+// A frame of several lights: where light i's own images go (dir/lights/<method>.<i>.*).
+std::string lightBase(const std::string& dir, const Frame& frame, std::size_t i) {
+  return dir + "/lights/" + frame.stats.method + "." + std::to_string(i);
+}
+
+}  // namespace
+
 void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json& context) {
   const std::string base = dir + "/" + frame.stats.method;
   const int w = int(frame.width), h = int(frame.height);
   writePngRgba8(base + ".png", w, h, frame.rgba);
   writeExrGray(base + ".visibility.exr", w, h, frame.visibility);
   writePngGray16(base + ".visibility.png", w, h, frame.visibility);
-  if (!frame.pip.empty()) {  // the pixels handed to the tracer, in red over the image (paper Fig. 4)
-    std::vector<std::uint8_t> overlay = frame.rgba;
-    for (std::size_t i = 0; i < frame.pip.size(); ++i) {
-      if (!frame.pip[i]) continue;
-      overlay[4 * i + 0] = std::uint8_t(0.35f * overlay[4 * i + 0] + 0.65f * 255.0f);
-      overlay[4 * i + 1] = std::uint8_t(0.35f * overlay[4 * i + 1]);
-      overlay[4 * i + 2] = std::uint8_t(0.35f * overlay[4 * i + 2]);
-    }
-    writePngRgba8(base + ".pip.png", w, h, overlay);
+  if (!frame.pip.empty()) writePipOverlay(base + ".pip.png", frame, frame.pip);
+  if (frame.lights.size() > 1) std::filesystem::create_directories(dir + "/lights");
+  for (std::size_t i = 0; i < frame.lights.size() && frame.lights.size() > 1; ++i) {
+    const Frame& light = frame.lights[i];
+    if (light.visibility.empty()) continue;  // its buffers were not kept
+    writePngGray16(lightBase(dir, frame, i) + ".visibility.png", w, h, light.visibility);
+    if (!light.pip.empty()) writePipOverlay(lightBase(dir, frame, i) + ".pip.png", frame, light.pip);
   }
   nlohmann::json stats = frame.stats.toJson();
   stats["context"] = context;
@@ -41,8 +60,15 @@ void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json
 }
 
 void writeHeatmap(const std::string& dir, const Frame& frame, const Frame& reference, float fullScale) {
-  const auto rgba = errorHeatmap(frame.visibility, reference.visibility, reference.covered, fullScale);
-  writePngRgba8(dir + "/" + frame.stats.method + ".heatmap.png", int(frame.width), int(frame.height), rgba);
+  const int w = int(frame.width), h = int(frame.height);
+  writePngRgba8(dir + "/" + frame.stats.method + ".heatmap.png", w, h,
+                errorHeatmap(frame.visibility, reference.visibility, reference.covered, fullScale));
+  for (std::size_t i = 0; i < frame.lights.size() && frame.lights.size() > 1; ++i) {
+    const Frame& light = frame.lights[i];
+    if (light.visibility.empty() || i >= reference.lights.size() || reference.lights[i].visibility.empty()) continue;
+    writePngRgba8(lightBase(dir, frame, i) + ".heatmap.png", w, h,
+                  errorHeatmap(light.visibility, reference.lights[i].visibility, reference.covered, fullScale));
+  }
 }
 
 namespace fs = std::filesystem;

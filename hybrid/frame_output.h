@@ -10,10 +10,12 @@ namespace penumbra {
 
 // dir/<method>.png, dir/<method>.visibility.exr (lossless float), dir/<method>.visibility.png
 // (16-bit grey, for viewers), dir/<method>.stats.json (stats + `context`) and, for methods that
-// classify, dir/<method>.pip.png (traced pixels in red).
+// classify, dir/<method>.pip.png (traced pixels in red); a frame of several lights also
+// dir/lights/<method>.<i>.visibility.png (and .pip.png) for each light i whose buffers it kept.
 void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json& context);
 
-// dir/<method>.heatmap.png: |frame - reference| over covered pixels, white at fullScale.
+// dir/<method>.heatmap.png: |frame - reference| over covered pixels, white at fullScale; a frame of
+// several lights also dir/lights/<method>.<i>.heatmap.png against the reference's light i.
 void writeHeatmap(const std::string& dir, const Frame& frame, const Frame& reference, float fullScale);
 
 void writeJson(const std::string& path, const nlohmann::json& value);

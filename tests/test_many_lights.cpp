@@ -12,6 +12,7 @@
 #include "core/metrics.h"
 #include "core/view.h"
 #include "gltf_writer.h"
+#include "png_check.h"
 #include "render_fixture.h"
 #include "shared/light.h"
 
@@ -533,8 +534,7 @@ TEST_F(ManyLightsCli, GltfLightsAllRenderAndAreJudgedEach) {
   EXPECT_NEAR(scene.lights[1].innerAngleDeg, glm::degrees(0.6f), 1e-3f);
   EXPECT_FLOAT_EQ(scene.lights[0].range, 30.0f);
 
-  const auto r =
-      run("compare --scene " + file + " --methods sm,srt,frt --res 96x96 --no-report --out " + (dir_ / "out").string());
+  const auto r = run("compare --scene " + file + " --methods sm,srt,frt --res 96x96 --out " + (dir_ / "out").string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto metrics = nlohmann::json::parse(slurp(dir_ / "out" / "metrics.json"));
   ASSERT_EQ(metrics["reference"]["lights"].size(), 3u);
@@ -549,6 +549,35 @@ TEST_F(ManyLightsCli, GltfLightsAllRenderAndAreJudgedEach) {
     }
     EXPECT_TRUE(m["image_error"]["rmse"].is_number()) << name;
   }
+  // Each light's own images: its visibility (the reference's and each method's, the lights' differing)
+  // and its heatmap against the reference's same light (a light without error: one colour where
+  // covered, the visibility the reference's); the report lists the lights of each method.
+  const std::string report = slurp(dir_ / "out" / "report.html");
+  std::vector<Image> reference;
+  std::size_t exact = 0;
+  for (const std::string name : {"ref", "sm", "srt", "frt"}) {
+    std::vector<Image> visibility;
+    const auto stats = nlohmann::json::parse(slurp(dir_ / "out" / (name + ".stats.json")));
+    for (int i = 0; i < 3; ++i) {
+      const std::string base = (dir_ / "out" / "lights" / (name + "." + std::to_string(i))).string();
+      visibility.push_back(readPng(base + ".visibility.png"));
+      EXPECT_EQ(visibility.back().width, 96) << base;
+      if (name == "ref") continue;
+      const Image heatmap = readPng(base + ".heatmap.png");
+      EXPECT_EQ(heatmap.width, 96) << base;
+      EXPECT_NE(report.find("lights/" + name + "." + std::to_string(i) + ".heatmap.png"), std::string::npos) << base;
+      if (stats["lights"][i]["error"]["rmse"].get<double>() == 0.0) {
+        ++exact;
+        EXPECT_EQ(visibility.back().rgba, reference[i].rgba) << base;
+        EXPECT_LE(colourSpread(heatmap).first, 2u) << base;  // covered, uncovered
+      }
+    }
+    EXPECT_NE(visibility[0].rgba, visibility[1].rgba) << name;
+    EXPECT_NE(visibility[1].rgba, visibility[2].rgba) << name;
+    if (name != "ref") EXPECT_NE(report.find(name + ": per light"), std::string::npos) << name;
+    if (name == "ref") reference = visibility;
+  }
+  EXPECT_GE(exact, 3u) << "frt's lights, at least, match the reference";
 }
 
 // A lights file gives each light its own size, colour and range; --save-view keeps them all and

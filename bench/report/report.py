@@ -151,6 +151,37 @@ def stats_to_row(stats):
             "trace_bytes_simulated": stats.get("trace_bytes_simulated")}
 
 
+def light_sections(dir_, methods, shown=8):
+    """A frame of several lights: per method, each light's metrics against the reference's same light, and the
+    images (lights/<method>.<i>.*) of the `shown` lights with the most wrong pixels."""
+    out = []
+    for s in methods:
+        lights = s.get("lights") or []
+        if len(lights) < 2:
+            continue
+        name = s["method"]
+        out.append(f"<h3>{esc(name)}: per light</h3>")
+        rows, wrong = [], []
+        for i, l in enumerate(lights):
+            err = l.get("error") or {}
+            culled = any(n.startswith("culled") for n in l.get("notes", []))
+            rows.append([str(i), "culled" if culled else (l.get("srt_path") or ""),
+                         fmt(err.get("wrong_pixel_fraction"), 4, 100.0), fmt(err.get("rmse"), 4),
+                         fmt(l.get("pip_fraction"), 2, 100.0), fmt(l.get("rays_traced")),
+                         fmt(l.get("pip_miss_fraction"), 5), fmt(l.get("light_error_max"), 4),
+                         fmt((l.get("time_ms") or {}).get("total"), 1)])
+            if not culled:
+                wrong.append((err.get("wrong_pixel_fraction") or 0.0, i))
+        out.append(table(["light", "path", "wrong %", "RMSE", "PIP %", "rays", "PIP miss", "shade error", "time ms"],
+                         rows, left_columns=2))
+        for _, i in sorted(wrong, key=lambda w: (-w[0], w[1]))[:shown]:
+            base = f"lights/{name}.{i}"
+            out.append(image_strip(dir_, [(base + ".heatmap.png", f"light {i}: |visibility - reference|"),
+                                          (base + ".pip.png", f"light {i}: pixels ray-traced (red)"),
+                                          (base + ".visibility.png", f"light {i}: visibility")]))
+    return out
+
+
 def compare_report(dir_):
     with open(os.path.join(dir_, "metrics.json")) as f:
         metrics = json.load(f)
@@ -175,6 +206,7 @@ def compare_report(dir_):
     for r in rows:
         body.append(f"<h3>{esc(r['method'])}</h3>")
         body.append(image_strip(dir_, method_images("", r["method"], r["method"])))
+    body += light_sections(dir_, metrics.get("methods", []))
     header, table_rows = metrics_rows([dict(refs[k], speedup_vs_ref=1.0) for k in refs] + rows)
     body += ["<h2>Metrics</h2>", table(header, table_rows),
              "<p class='note'>Errors are over covered pixels, of the visibility buffer (fraction of the light "
