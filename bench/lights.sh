@@ -6,7 +6,8 @@
 # pixels and pip_miss against the reference's same lamp, the shaded image's rmse, the maps' texels,
 # and the frame's cost over the same street lit by its first lamp alone; the largest street again with
 # a trace dispatch per lamp (--lights-trace each), and with each lamp keeping its own maps
-# (--reuse-light-passes on), and with --light-error 0.01. Release build, warm-up 1, median of REPEAT.
+# (--reuse-light-passes on), and with --light-error 0.01; then its first 16 lamps without a range by
+# --light-error. Release build, warm-up 1, median of REPEAT.
 # Writes bench/results/lights.{csv,md} and lights.machine.txt.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -44,6 +45,15 @@ last=${LAMPS##* }
 # srt keeps its map's answer and frt the lamp unshadowed, tracing no ray there
 ./build/bin/penumbra compare --scene "builtin:street:$last" --methods srt,frt --tracer bvh --res "$RES" --warmup 1 \
   --repeat "$REPEAT" --light-error 0.01 --no-report --out "$runs/eps$last" | tail -n 3
+
+# the largest street's first 16 lamps without a range (glTF's default: each lights every pixel, fading
+# with the inverse square), at --light-error 0, 0.01 and 0.03
+/usr/bin/python3 -c 'import json, sys; l = json.load(open(sys.argv[1]))["lights"][:16]; [x.pop("range", None) for x in l]
+json.dump(l, open(sys.argv[2], "w"))' "$runs/view$last.json" "$runs/unbounded.json"
+for eps in 0 0.01 0.03; do
+  ./build/bin/penumbra compare --scene "builtin:street:$last" --lights "$runs/unbounded.json" --methods srt,frt --tracer bvh \
+    --res "$RES" --warmup 1 --repeat "$REPEAT" --light-error $eps --no-report --out "$runs/unbounded$eps" | tail -n 3
+done
 
 echo "$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(./build/bin/penumbra device 2>/dev/null | grep -m1 '"driver"' | cut -d'"' -f4)" |
   tee bench/results/lights.machine.txt
@@ -117,6 +127,26 @@ with open("bench/results/lights.md", "w") as f:
                 f"{fmt(None if r['worst_wrong'] is None else 100 * r['worst_wrong'])} | "
                 f"{fmt(None if r['worst_pip_miss'] is None else 100 * r['worst_pip_miss'])} | {fmt(r['image_rmse'], '{:.4f}')} | {fmt(r['light_error_max'], '{:.4f}')} | "
                 f"{r['map_texels'] / 1e6:.1f} | {r['maps_rendered']} | {r['maps_mib']:.0f} | {r['first_lamp_alone_ms']:.1f} | {r['total_ms'] / r['first_lamp_alone_ms']:.2f} |\n")
+    f.write("\n## Lamps without a range\n\nThe largest street's first 16 lamps with no `range` (glTF's default: each "
+            "lights every pixel, fading with the inverse square, so no lamp is culled anywhere), by `--light-error`. "
+            "Below ε pixels: covered pixels of every lamp where its shadow weighs less than ε (an approximate answer "
+            "stands there); worst lamp wrong %: visibility, which those pixels may get wrong; shade error: the most "
+            "the lamps' visibility errors changed a pixel's shaded value against the reference (linear, summed over "
+            "the lamps; per lamp it stays below ε); image rmse and FLIP: the shaded sRGB image against the "
+            "reference's.\n\n")
+    f.write("| ε | method | total | trace | shade | rays | below ε pixels | worst lamp wrong % | shade error | "
+            "worst lamp shade error | image rmse | image FLIP |\n")
+    f.write("|" + "---|" * 12 + "\n")
+    for eps in ("0", "0.01", "0.03"):
+        m = json.load(open(os.path.join(runs, "unbounded" + eps, "metrics.json")))
+        for s in m["methods"]:
+            lights, t, img = s["lights"], s["time_ms"], s.get("image_error") or {}
+            lamp_error = [l["light_error_max"] for l in lights if l.get("light_error_max") is not None]
+            f.write(f"| {eps} | {s['method']} | {t['total']:.1f} | {t.get('trace', 0.0):.1f} | {t.get('shade', 0.0):.1f} | "
+                    f"{s['rays_traced'] or 0:,} | {sum((l.get('counts') or {}).get('light_error_pixels', 0) for l in lights):,} | "
+                    f"{fmt(100 * max(l['error']['wrong_pixel_fraction'] for l in lights))} | "
+                    f"{fmt(s.get('light_error_max'), '{:.4f}')} | {fmt(max(lamp_error) if lamp_error else None, '{:.4f}')} | "
+                    f"{fmt(img.get('rmse'), '{:.4f}')} | {fmt(img.get('flip_mean'), '{:.4f}')} |\n")
     f.write(f"\nMachine: {open('bench/results/lights.machine.txt').read().strip()}\n")
 print("wrote", out, "and bench/results/lights.md")
 EOF
