@@ -113,15 +113,18 @@ class TracedMethod final : public Method {
   }
 
   // trace(), timed: its wall time (the device's passes and a CPU tracer's trace, which no GPU
-  // timestamp sees: Embree) less the camera pass and the shading, which both paths share.
+  // timestamp sees: Embree) less the camera pass and the shading, which both paths share - except
+  // where the light could join the frame's one trace of its lights: there this path's shading pass,
+  // the copy of its visibility into the lights' batch, is its own (a joined light pays none).
   double timedTrace(FrameContext& r, ShadowTracer& tracer, bool classify, bool shade, FrameStats& stats) {
+    const bool ownShade = r.tracesWithLights(tracer);
     const std::size_t passesBefore = r.timer().passCount();
     const auto start = std::chrono::steady_clock::now();
     trace(r, tracer, classify, shade, stats);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto passes = r.timer().read();
     for (std::size_t i = passesBefore; i < passes.size(); ++i) {
-      if (passes[i].first == "gbuffer" || passes[i].first == "shade") ms -= passes[i].second;
+      if (passes[i].first == "gbuffer" || (passes[i].first == "shade" && !ownShade)) ms -= passes[i].second;
     }
     return ms;
   }
