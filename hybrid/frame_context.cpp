@@ -453,14 +453,14 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
   frame.height = settings_.height;
   if (!coveredRead_) {  // once per G-buffer: the frame's other lights share it
     context_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) { gbuffer_.recordReadback(cmd); });
-    const std::vector<glm::vec4> positions = gbuffer_.positions();
+    std::vector<glm::vec4> positions = gbuffer_.positions();
     covered_.resize(positions.size());
     for (std::size_t i = 0; i < positions.size(); ++i) covered_[i] = positions[i].w != 0.0f;
     coveredRead_ = true;
     positions_.clear();
     normals_.clear();
     if (settings_.lightError > 0.0f) {
-      positions_ = positions;
+      positions_ = std::move(positions);
       normals_ = gbuffer_.normals();
     }
   }
@@ -498,20 +498,22 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
   }
   if (settings_.lightError > 0.0f && (method.classifies() || frameData_.traceInPlace)) {
     // --light-error: the pixels where the light's shadow weighs less than it (an approximate answer
-    // stands there: the map's, or unshadowed in a trace in place, which traced only the others)
+    // stands there: the map's, or unshadowed in a trace in place, which traced only the others);
+    // beyond the light's rectangle its range reaches nothing: weight 0
     std::vector<float> weights(pixels, 0.0f);
-    std::uint64_t slight = 0, slightInRect = 0;
+    std::uint64_t slight = 0, untraced = 0;
     const glm::uvec4 rect = lightRect();
-    for (std::size_t i = 0; i < pixels; ++i) {
-      if (!covered_[i]) continue;
-      weights[i] = shared::shadowWeight(frameData_.light, glm::vec3(positions_[i]), glm::vec3(normals_[i]));
-      if (weights[i] >= settings_.lightError) continue;
-      slight += weights[i] > 0.0f;
-      const glm::uvec2 pixel(i % frame.width, i / frame.width);
-      slightInRect += pixel.x >= rect.x && pixel.y >= rect.y && pixel.x < rect.z && pixel.y < rect.w;
+    for (std::uint32_t y = rect.y; y < rect.w; ++y) {
+      for (std::size_t i = std::size_t(y) * frame.width + rect.x; i < std::size_t(y) * frame.width + rect.z; ++i) {
+        if (!covered_[i]) continue;
+        weights[i] = shared::shadowWeight(frameData_.light, glm::vec3(positions_[i]), glm::vec3(normals_[i]));
+        if (weights[i] >= settings_.lightError) continue;
+        slight += weights[i] > 0.0f;
+        ++untraced;
+      }
     }
     stats.counts["light_error_pixels"] = slight;
-    if (frameData_.traceInPlace && stats.pipPixels) stats.pipPixels = *stats.pipPixels - slightInRect;
+    if (frameData_.traceInPlace && stats.pipPixels) stats.pipPixels = *stats.pipPixels - untraced;
     if (slot_.buffers) frame.shadowWeight = std::move(weights);
   }
   if (stats.pipPixels) {

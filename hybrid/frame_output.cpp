@@ -48,7 +48,7 @@ void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json
   writePngGray16(base + ".visibility.png", w, h, frame.visibility);
   if (!frame.pip.empty()) writePipOverlay(base + ".pip.png", frame, frame.pip);
   if (frame.lights.size() > 1) std::filesystem::create_directories(dir + "/lights");
-  for (std::size_t i = 0; i < frame.lights.size() && frame.lights.size() > 1; ++i) {
+  for (std::size_t i = 0; i < frame.lights.size(); ++i) {
     const Frame& light = frame.lights[i];
     if (light.visibility.empty()) continue;  // its buffers were not kept
     writePngGray16(lightBase(dir, frame, i) + ".visibility.png", w, h, light.visibility);
@@ -63,7 +63,7 @@ void writeHeatmap(const std::string& dir, const Frame& frame, const Frame& refer
   const int w = int(frame.width), h = int(frame.height);
   writePngRgba8(dir + "/" + frame.stats.method + ".heatmap.png", w, h,
                 errorHeatmap(frame.visibility, reference.visibility, reference.covered, fullScale));
-  for (std::size_t i = 0; i < frame.lights.size() && frame.lights.size() > 1; ++i) {
+  for (std::size_t i = 0; i < frame.lights.size(); ++i) {  // a frame of several lights (one keeps none)
     const Frame& light = frame.lights[i];
     if (light.visibility.empty() || i >= reference.lights.size() || reference.lights[i].visibility.empty()) continue;
     writePngRgba8(lightBase(dir, frame, i) + ".heatmap.png", w, h,
