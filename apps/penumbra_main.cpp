@@ -142,8 +142,9 @@ int main(int argc, char** argv) {
   compare->add_option("--reference-spp", config.referenceSpp, "Light samples per pixel of the reference (default: --spp; 256 with --denoise)");
   compare->add_flag("--no-report", config.noReport, "Do not run report.py (report.html and its chart)");
   compare->add_flag("--explain-misses", config.explainMisses,
-                    "Hard shadows: count why the classification left out each pixel sm gets wrong (miss_causes in "
-                    "metrics.json) and draw them (<method>.misses.png)");
+                    "Count why the classification left out each pixel sm gets wrong (miss_causes in metrics.json; "
+                    "hard shadows) and draw them (<method>.misses.png); area lights: which rule put each pixel in "
+                    "the penumbra mask and whether the reference has it in penumbra, lit or dark (mask_rules)");
   addRunOptions(*compare, config);
   BenchCommand bench(app);
   TuneCommand tune(app);

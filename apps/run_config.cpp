@@ -282,6 +282,7 @@ std::optional<MissReport> judgeFrame(Frame& frame, const Frame& reference, bool 
   MissReport report = explainMisses(frame.shadowMapVisibility, frame.pip, frame.pipWhy, reference.visibility,
                                     reference.covered, threshold);
   frame.stats.missCauses = missCauseCounts(report);
+  if (soft) frame.stats.maskRules = explainMask(frame.pip, frame.pipWhy, reference.visibility, reference.covered);
   return report;
 }
 

@@ -1,5 +1,6 @@
 #include "core/miss_explainer.h"
 
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 
@@ -70,6 +71,41 @@ MissReport explainMisses(std::span<const float> smVisibility, std::span<const st
     ++report.counts[std::size_t(cause)];
   }
   return report;
+}
+
+std::map<std::string, MaskRule> explainMask(std::span<const std::uint8_t> pip, std::span<const std::uint8_t> why,
+                                            std::span<const float> reference, std::span<const std::uint8_t> covered) {
+  const std::size_t n = reference.size();
+  if (pip.size() != n || why.size() != n || covered.size() != n) {
+    throw std::invalid_argument("explainMask: buffers differ in size");
+  }
+  // PIP_MASK_* bit by bit
+  static const char* const kNames[] = {"edge_doubt", "thin_doubt", "contact_doubt", "tangent_plane",
+                                       "own_depth",  "edge_splat", "surface_over",  "corner_map"};
+  static_assert(std::size(kNames) == PIP_MASK_RULES);
+  std::map<std::string, MaskRule> rules;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!covered[i] || !pip[i]) continue;
+    if (why[i] == 0u) {
+      MaskRule& r = rules[(pip[i] & PIP_OUTSIDE) ? "outside_map" : "unexplained"];
+      r.holds.add(reference[i]);
+      r.alone.add(reference[i]);
+      continue;
+    }
+    const bool alone = std::has_single_bit(unsigned(why[i]));
+    for (std::uint32_t bit = 0; bit < PIP_MASK_RULES; ++bit) {
+      if (!(why[i] & (1u << bit))) continue;
+      MaskRule& r = rules[kNames[bit]];
+      r.holds.add(reference[i]);
+      if (alone) r.alone.add(reference[i]);
+    }
+  }
+  return rules;
+}
+
+void MaskPixels::add(float reference) {
+  ++pixels;
+  ++(reference <= 0.0f ? dark : reference >= 1.0f ? lit : penumbra);
 }
 
 std::vector<std::uint8_t> missImage(const MissReport& report, std::span<const std::uint8_t> covered) {

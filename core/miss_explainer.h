@@ -42,6 +42,23 @@ MissReport explainMisses(std::span<const float> smVisibility, std::span<const st
                          std::span<const std::uint8_t> why, std::span<const float> reference,
                          std::span<const std::uint8_t> covered, float threshold);
 
+// The penumbra mask explained (area lights): for each rule that puts pixels in it (PIP_MASK_*, by
+// name), the covered pixels where it holds and those where it alone holds (which the mask would
+// lose without it), each split by what the reference with the same samples says there: a penumbra
+// (0 < v < 1: the mask's job), or fully lit or fully dark (traced for nothing with these samples;
+// a mask sound for every light sample must still keep some of them).
+struct MaskPixels {
+  std::uint64_t pixels = 0, penumbra = 0, lit = 0, dark = 0;
+  void add(float reference);
+};
+struct MaskRule {
+  MaskPixels holds, alone;
+};
+// pip/why: the method's flags and PIP_MASK_* bits; flagged pixels without a rule count as
+// "outside_map" (PIP_OUTSIDE) or "unexplained".
+std::map<std::string, MaskRule> explainMask(std::span<const std::uint8_t> pip, std::span<const std::uint8_t> why,
+                                            std::span<const float> reference, std::span<const std::uint8_t> covered);
+
 // RGBA8 image: misses coloured by cause over a dark grey of the covered pixels: facing away magenta,
 // acne orange, blocker within bias yellow, edge outside interval blue, edge below threshold cyan,
 // blocker missing red, gap closed green, unexplained white, below --light-error grey-blue.

@@ -140,12 +140,13 @@ SpecializedComputePipeline::SpecializedComputePipeline(const Context& context, s
                                                        std::uint32_t pushConstantBytes, std::string name)
     : context_(context), spirv_(spirv), bindings_(bindings), pushConstantBytes_(pushConstantBytes), name_(std::move(name)) {}
 
-const ComputePipeline& SpecializedComputePipeline::operator()(bool value) const {
-  std::optional<ComputePipeline>& variant = variants_[value ? 1 : 0];
-  const std::uint32_t constant = value ? 1u : 0u;
+const ComputePipeline& SpecializedComputePipeline::operator()(bool value, bool second) const {
+  std::optional<ComputePipeline>& variant = variants_[(value ? 1 : 0) + (second ? 2 : 0)];
+  const std::array<std::uint32_t, 2> constants{value ? 1u : 0u, 1u};
   if (!variant) {
-    variant.emplace(context_, spirv_, bindings_, pushConstantBytes_, name_ + (value ? " (1)" : " (0)"),
-                    std::span<const std::uint32_t>(&constant, 1));
+    variant.emplace(context_, spirv_, bindings_, pushConstantBytes_,
+                    name_ + (value ? " (1" : " (0") + (second ? ", 1)" : ")"),
+                    std::span<const std::uint32_t>(constants.data(), second ? 2 : 1));
   }
   return *variant;
 }

@@ -532,7 +532,7 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     for (std::size_t i = 0; i < flags.size(); ++i) {
       if (flags[i] == 0u) frame.shadowMapVisibility[i] = frame.visibility[i];
     }
-    if (settings_.pip.explain && !shared::isAreaLight(frameData_.light)) {
+    if (settings_.pip.explain) {
       const auto why = why_.download<std::uint32_t>(pixels);
       frame.pipWhy.assign(why.begin(), why.end());
     }

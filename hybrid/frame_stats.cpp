@@ -19,6 +19,13 @@ nlohmann::json toJson(const ImageErrorMetrics& e) {
           {"pixels", e.pixels}};
 }
 
+void to_json(nlohmann::json& j, const MaskRule& r) {
+  const auto pixels = [](const MaskPixels& p) {
+    return nlohmann::json{{"pixels", p.pixels}, {"penumbra", p.penumbra}, {"lit", p.lit}, {"dark", p.dark}};
+  };
+  j = {{"holds", pixels(r.holds)}, {"alone", pixels(r.alone)}};
+}
+
 void FrameStats::addPass(const std::string& pass, double ms) {
   for (auto& [name, total] : passMs) {
     if (name == pass) {
@@ -53,6 +60,7 @@ nlohmann::json FrameStats::toJson() const {
       {"penumbra_miss_fraction", orNull(penumbraMissFraction)},
       {"light_error_max", orNull(lightErrorMax)},
       {"miss_causes", orNull(missCauses)},
+      {"mask_rules", orNull(maskRules)},
       {"notes", notes},
       {"traversal", nodeVisits
                         ? nlohmann::json{{"node_visits", *nodeVisits},

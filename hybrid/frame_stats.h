@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/metrics.h"
+#include "core/miss_explainer.h"
 
 namespace penumbra {
 
@@ -29,6 +30,7 @@ struct FrameStats {
   // value (linear: shared::shadowWeight times |visibility - reference|, summed over the frame's lights)
   std::optional<double> lightErrorMax;
   std::optional<std::map<std::string, std::uint64_t>> missCauses;  // --explain-misses: missed pixels by cause
+  std::optional<std::map<std::string, MaskRule>> maskRules;        // --explain-misses, area lights: the mask's rules
   std::vector<std::string> notes;               // what a reader of the numbers should know
   std::optional<std::uint64_t> nodeVisits;      // traversal steps, where the tracer counts them
   std::optional<std::uint64_t> triangleTests;
@@ -81,6 +83,8 @@ struct FrameStats {
 };
 
 nlohmann::json toJson(const ErrorMetrics& error);
+// metrics.json's mask_rules entries (for nlohmann::json)
+void to_json(nlohmann::json& j, const MaskRule& rule);
 nlohmann::json toJson(const ImageErrorMetrics& error);
 
 }  // namespace penumbra

@@ -75,7 +75,7 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
   }
   // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
   const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
-  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin));
+  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), push.explain != 0u);
   pipeline.bind(cmd, gpu::Descriptors{}
                          .storageImage(PIP_BINDING_POSITION, gbuffer.position().view())
                          .storageImage(PIP_BINDING_NORMAL, gbuffer.normal().view())

@@ -58,6 +58,9 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Flo
 layout(std430, binding = PIP_BINDING_COUNT) buffer Count { TraceCount traceCount; };
 layout(std430, binding = PIP_BINDING_WHY) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
+// push.explain, fixed per pipeline (raster/pip_classify_pass.cpp), so that the mask's search, which
+// names every rule that holds only when explaining, compiles without that choice otherwise.
+layout(constant_id = 1) const bool kExplain = false;
 #include "point_list.glsl"
 #include "light_texels.glsl"
 #include "receiver_plane.glsl"
@@ -195,10 +198,13 @@ bool gapBetweenBlockers(vec3 p, mat4 viewProj, uint face) {
 // them, and a blocker there has no texel in p's face (the bunny's ears under a light half the
 // scene wide: blockers ~240 texels away across a face's border). This replaces marking every
 // pixel whose window leaves its face (bunny, light 0.5: mask 89% -> 72% of covered pixels).
-// halfExtent: the light's points lie within it of its centre.
-bool blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, bool lit, bool interior, ivec2 t,
-                        float halfExtent) {
+// halfExtent: the light's points lie within it of its centre. Returns the rules that found one
+// (PIP_MASK_SPLAT, PIP_MASK_SURFACE), 0 for none: the first found, or with `every` all of them.
+uint blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, bool lit, bool interior, ivec2 t,
+                        float halfExtent, bool every) {
   uint res = frame.shadow.resolution, faces = frame.shadow.faceCount;
+  uint rules = 0u;
+#define FOUND(rule) { rules |= rule; if (!every) return rules; }
   for (uint i = 0u; i < faces; ++i) {
     uint f = (face + i) % faces;
     mat4 viewProj = faceViewProj(f);
@@ -207,18 +213,20 @@ bool blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, b
       // p behind the face's eye (another cube face): p's segments to the light reach depths below
       // halfExtent there, so only a texel that near may block.
       float nearest = tiles[2u * (pyramidOffset(res, faces, push.pyramidLevels) + f) + PYRAMID_SURFACE];
-      if (linearDepth(nearest) < halfExtent) return true;
+      if (linearDepth(nearest) < halfExtent) FOUND(PIP_MASK_SPLAT);
       continue;
     }
     ivec2 tf = i == 0u ? t : ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * float(res)));
     float d = axisDepth(clip);
     SplatCone cone = splatCone(offsetP, viewProj, tf);  // one cone for both channels
-    if (withinReach(cone, f, d, PYRAMID_EDGES, MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0))).x > 0.0) return true;
+    MapPlane none = MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0));  // edges need no plane
+    if (withinReach(cone, f, d, PYRAMID_EDGES, none).x > 0.0) FOUND(PIP_MASK_SPLAT);
     if (!lit) continue;
-    if (i == 0u && interior && layerOver(p, nf, texel, viewProj, f, t)) return true;
-    if (withinReach(cone, f, d, PYRAMID_SURFACE, mapPlane(p, nf, texel, viewProj)).x > 0.0) return true;
+    if (i == 0u && interior && layerOver(p, nf, texel, viewProj, f, t)) FOUND(PIP_MASK_SURFACE);
+    if (withinReach(cone, f, d, PYRAMID_SURFACE, mapPlane(p, nf, texel, viewProj)).x > 0.0) FOUND(PIP_MASK_SURFACE);
   }
-  return false;
+#undef FOUND
+  return rules;
 }
 
 // Unflagged pixels keep the sm answer in `visibility`, so only flagged ones (which the trace
@@ -248,7 +256,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   if (!lightReaches(light, p, n, light.position.xyz)) {
     // An area light may still be partly above the receiver's tangent plane: trace those.
     bool partly = !slight && area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
-    if (push.explain != 0u && !corner) why[index] = PIP_WHY_FACING;
+    if (push.explain != 0u && !corner) why[index] = partly ? PIP_MASK_TANGENT : PIP_WHY_FACING;
     return corner ? 0u : write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0, rayEnd);
   }
 
@@ -275,6 +283,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
       if (traceFlags[index] == 0u) {
         smVisibility[index] = visibility[index];
         rayMax[index] = 0.0;
+        if (push.explain != 0u) why[index] = PIP_MASK_CORNER;
       }
       traceFlags[index] |= PIP_PENUMBRA;
     }
@@ -356,9 +365,18 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
     // the receiver's own depth interval (it may be the receiver itself: acne), or part of the
     // light is below the receiver's tangent plane or its face's plane.
     flags &= ~PIP_SEAM;  // the windows handle seams
-    bool inMask = flags != 0u || facing < halfExtent || dot(nf, light.position.xyz - p) < halfExtent || (vis == 0.0 && s >= lo);
-    if (!inMask) inMask = blockerWithinReach(p, offsetP, nf, texel, face, vis > 0.0, interior, t, halfExtent);
-    return write(index, vis, inMask ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
+    // Explained, every rule that holds is named; else the first ends the search.
+    bool every = kExplain;
+    uint rules = ((flags & PIP_EDGE) != 0u ? PIP_MASK_EDGE_DOUBT : 0u) |
+                 ((flags & PIP_THIN) != 0u ? PIP_MASK_THIN_DOUBT : 0u) |
+                 ((flags & PIP_CONTACT) != 0u ? PIP_MASK_CONTACT_DOUBT : 0u);
+    if (facing < halfExtent || dot(nf, light.position.xyz - p) < halfExtent) rules |= PIP_MASK_TANGENT;
+    if (vis == 0.0 && s >= lo) rules |= PIP_MASK_OWN_DEPTH;
+    if (rules == 0u || every) {
+      rules |= blockerWithinReach(p, offsetP, nf, texel, face, vis > 0.0, interior, t, halfExtent, every);
+    }
+    if (every) why[index] = rules;
+    return write(index, vis, rules != 0u ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
   if (vis == 0.0 && s >= lo && flags == 0u) flags |= PIP_ACNE;
   if (s >= lo && flags == 0u && interior &&

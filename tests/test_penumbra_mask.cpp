@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -14,10 +15,13 @@
 
 #include "core/gpu_light.h"
 #include "core/metrics.h"
+#include "core/miss_explainer.h"
+#include "core/scene_loader.h"
 #include "raster/depth_pyramid_pass.h"
 #include "raster/scene_geometry.h"
 #include "raster/shadow_map_pass.h"
 #include "render_fixture.h"
+#include "shared/pip.h"
 
 namespace penumbra::test {
 namespace {
@@ -162,6 +166,64 @@ TEST(PenumbraMask, SmoothSurfaceRisingOverTheReceiverIsInTheMask) {
 // receiver's face (marking pixels whose window left it) left 0.25% of the covered pixels wrong.
 TEST(PenumbraMask, BlockersInOtherCubeFacesAreFound) {
   expectGrooveMaskComplete({1.5f, 1.5f, 1.5f}, 1.0f);
+}
+
+// --explain-misses on an area light names every rule that puts each pixel in the mask
+// (PIP_MASK_* bits, explainMask): every masked pixel has one (pixels outside the map are traced
+// without a rule: outside_map), naming them all leaves the mask as it was, the doubt bits are the
+// centre map's doubts' flags, and each scene's penumbra is where its rules say: on the courtyard
+// mostly in edge splats; in the groove a smooth surface rising over the receiver and the light
+// below the faces' planes hold penumbra pixels no other rule does (without them it was wrong).
+TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
+  struct Case {
+    std::string name;
+    Scene scene;
+    float size;
+    std::vector<std::string> aloneWithPenumbra;  // rules that alone hold some penumbra pixels
+  };
+  const std::vector<Case> cases = {
+      {"courtyard", loadScene("builtin:courtyard"), 0.1f, {"edge_splat"}},
+      {"groove", grooveScene({1.0f, 2.0f, 0.0f}), 0.8f, {"surface_over", "tangent_plane"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    RenderSettings settings = maskSettings(192);
+    SceneRun plain(c.scene, settings);
+    settings.pip.explain = true;
+    SceneRun explained(c.scene, settings);
+    for (SceneRun* run : {&plain, &explained}) run->light.size = c.size * c.scene.bounds().radius();
+    const Frame srt = explained.render("srt"), frt = explained.render("frt");
+    EXPECT_EQ(srt.pip, plain.render("srt").pip) << "explaining changed the mask";
+    const std::map<std::string, MaskRule> rules = explainMask(srt.pip, srt.pipWhy, frt.visibility, frt.covered);
+    std::uint64_t masked = 0, penumbra = 0, alone = 0;
+    for (std::size_t i = 0; i < srt.pip.size(); ++i) {
+      if (!frt.covered[i] || !srt.pip[i]) continue;
+      ++masked;
+      penumbra += frt.visibility[i] > 0.0f && frt.visibility[i] < 1.0f;
+      const std::uint32_t doubts = srt.pipWhy[i] & (PIP_MASK_EDGE_DOUBT | PIP_MASK_THIN_DOUBT | PIP_MASK_CONTACT_DOUBT);
+      const std::uint32_t flags = srt.pip[i] & (PIP_EDGE | PIP_THIN | PIP_CONTACT);
+      EXPECT_EQ(doubts, (flags & (PIP_EDGE | PIP_THIN)) | (flags & PIP_CONTACT ? PIP_MASK_CONTACT_DOUBT : 0u))
+          << "pixel " << i;
+    }
+    for (const auto& [name, rule] : rules) {
+      std::cout << c.name << " mask rule " << name << ": holds " << rule.holds.pixels << " (penumbra "
+                << rule.holds.penumbra << ", lit " << rule.holds.lit << ", dark " << rule.holds.dark << "), alone "
+                << rule.alone.pixels << " (penumbra " << rule.alone.penumbra << ")\n";
+      for (const MaskPixels& p : {rule.holds, rule.alone}) EXPECT_EQ(p.pixels, p.penumbra + p.lit + p.dark) << name;
+      EXPECT_LE(rule.alone.pixels, rule.holds.pixels) << name;
+      alone += rule.alone.pixels;
+    }
+    EXPECT_EQ(rules.count("unexplained"), 0u);
+    EXPECT_LE(alone, masked);
+    for (const std::string& name : c.aloneWithPenumbra) {
+      ASSERT_EQ(rules.count(name), 1u) << name;
+      EXPECT_GT(rules.at(name).alone.penumbra, 0u) << name;
+    }
+    if (c.name == "courtyard") {
+      EXPECT_GE(2 * rules.at("edge_splat").holds.penumbra, penumbra);
+    }
+  }
+  expectValidationSilent();
 }
 
 // The surface fits of the edge pyramid (shared/pyramid.h) that let the mask's surface search skip

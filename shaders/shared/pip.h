@@ -19,7 +19,7 @@ PN_BEGIN
 #define PIP_BINDING_TRACE_FLAGS 7     // uint per pixel: PIP_* bits
 #define PIP_BINDING_RAY_MAX 8         // float per pixel: the ray's end
 #define PIP_BINDING_COUNT 13          // TraceCount of the list PipPush::appendList fills
-#define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_*
+#define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_* (area lights: PIP_MASK_* bits where flagged)
 #define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
@@ -40,7 +40,7 @@ PN_BEGIN
 
 // Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.
-#define PIP_WHY_NONE 0u      // flagged, not covered, or not explained (area lights)
+#define PIP_WHY_NONE 0u      // flagged (area lights: PIP_MASK_* bits instead), not covered, or not explained
 #define PIP_WHY_FACING 1u    // the receiver faces away from the light: dark by rule, no map read
 #define PIP_WHY_BIAS 2u      // the map sees the receiver itself (its depth within the receiver's interval
                              // widened by margin and spread): acne (sm dark) or a blocker within bias (sm lit)
@@ -50,6 +50,20 @@ PN_BEGIN
                              // (sm lit) or a gap the map closed (sm dark)
 #define PIP_WHY_LIGHT_ERROR 6u  // the light's shadow weighs less than --light-error there (shadowWeight)
 #define PIP_WHY_COUNT 7u
+
+// Area lights, with PipPush::explain: for a pixel in the penumbra mask, the bits of every rule that
+// puts it there (in `why`, instead of a PIP_WHY_* code); compare --explain-misses counts them
+// against the reference (mask_rules).
+#define PIP_MASK_EDGE_DOUBT 1u     // the centre map's doubts (PIP_EDGE): a depth edge the receiver's interval reaches
+#define PIP_MASK_THIN_DOUBT 2u     // (PIP_THIN) a thin triangle nearer than the receiver in its 3x3 texels
+#define PIP_MASK_CONTACT_DOUBT 4u  // (PIP_CONTACT) another surface meets the receiver within the bias
+#define PIP_MASK_TANGENT 8u        // part of the light is below the receiver's tangent plane or its face's plane
+#define PIP_MASK_OWN_DEPTH 16u     // umbra whose blocker lies within the receiver's own depth interval
+// An edge texel's splat covers the pixel (or, in a cube face behind it, a texel lies nearer than the light's extent).
+#define PIP_MASK_SPLAT 32u
+#define PIP_MASK_SURFACE 64u  // a layer within the bias, or a smooth surface, over a lit receiver
+#define PIP_MASK_CORNER 128u  // --penumbra-maps 5: only a corner map's edge splat
+#define PIP_MASK_RULES 8u     // the bits above
 
 struct PipPush {  // 64 bytes
   float deltaThreshold;  // depth edge when max |s - s'| exceeds this (world units along the light axis)
