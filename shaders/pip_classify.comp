@@ -58,8 +58,9 @@ layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer Flo
 layout(std430, binding = PIP_BINDING_COUNT) buffer Count { TraceCount traceCount; };
 layout(std430, binding = PIP_BINDING_WHY) writeonly buffer Why { uint why[]; };
 layout(push_constant) uniform PushBlock { PipPush push; };
-// push.explain, fixed per pipeline (raster/pip_classify_pass.cpp), so that the mask's search, which
-// names every rule that holds only when explaining, compiles without that choice otherwise.
+// PipPush::explain as a pipeline constant (raster/pip_classify_pass.cpp picks the pipeline by it),
+// the only form this shader reads: a dispatch that does not explain compiles without the `why`
+// writes and with a mask search that stops at its first rule.
 layout(constant_id = 1) const bool kExplain = false;
 #include "point_list.glsl"
 #include "light_texels.glsl"
@@ -96,6 +97,8 @@ struct MapPlane {
 float planeDepthMeasure(vec4 clip) {
   return frame.shadow.kind == SHADOW_ORTHO ? linearDepth(clip.z / clip.w) : -1.0 / clip.w;
 }
+// No plane: the edge channel's search reads none.
+const MapPlane kNoPlane = MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0));
 MapPlane mapPlane(vec3 p, vec3 nf, float texel, mat4 viewProj) {
   float res = float(frame.shadow.resolution), near = frame.shadow.nearPlane, far = frame.shadow.farPlane;
   bool ortho = frame.shadow.kind == SHADOW_ORTHO;
@@ -219,8 +222,7 @@ uint blockerWithinReach(vec3 p, vec3 offsetP, vec3 nf, float texel, uint face, b
     ivec2 tf = i == 0u ? t : ivec2(floor((clip.xy / clip.w * 0.5 + 0.5) * float(res)));
     float d = axisDepth(clip);
     SplatCone cone = splatCone(offsetP, viewProj, tf);  // one cone for both channels
-    MapPlane none = MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0));  // edges need no plane
-    if (withinReach(cone, f, d, PYRAMID_EDGES, none).x > 0.0) FOUND(PIP_MASK_SPLAT);
+    if (withinReach(cone, f, d, PYRAMID_EDGES, kNoPlane).x > 0.0) FOUND(PIP_MASK_SPLAT);
     if (!lit) continue;
     if (i == 0u && interior && layerOver(p, nf, texel, viewProj, f, t)) FOUND(PIP_MASK_SURFACE);
     if (withinReach(cone, f, d, PYRAMID_SURFACE, mapPlane(p, nf, texel, viewProj)).x > 0.0) FOUND(PIP_MASK_SURFACE);
@@ -256,7 +258,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   if (!lightReaches(light, p, n, light.position.xyz)) {
     // An area light may still be partly above the receiver's tangent plane: trace those.
     bool partly = !slight && area && facing > -halfExtent && dot(p - light.position.xyz, light.direction.xyz) > 0.0;
-    if (push.explain != 0u && !corner) why[index] = partly ? PIP_MASK_TANGENT : PIP_WHY_FACING;
+    if (kExplain && !corner) why[index] = partly ? PIP_MASK_TANGENT : PIP_WHY_FACING;
     return corner ? 0u : write(index, 0.0, partly ? PIP_PENUMBRA : 0u, 0.0, rayEnd);
   }
 
@@ -275,15 +277,14 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   ivec2 t = ivec2(floor(uv * float(res)));
   if (corner && slight) return 0u;
   if (corner) {
-    vec2 window = withinReach(splatCone(offsetP, viewProj, t), face, linearDepth(ndc.z), PYRAMID_EDGES,
-                              MapPlane(0.0, 0.0, vec2(0.0), vec2(0.0), 0.0, vec2(0.0)));  // edges need no plane
+    vec2 window = withinReach(splatCone(offsetP, viewProj, t), face, linearDepth(ndc.z), PYRAMID_EDGES, kNoPlane);
     if (window.x > 0.0 || (window.y > 0.0 && kind == SHADOW_CUBE)) {
       // A pixel the centre pass left unflagged has its sm answer in `visibility` only and no ray
       // end (write() stores both for flagged pixels); the trace and the stats need them.
       if (traceFlags[index] == 0u) {
         smVisibility[index] = visibility[index];
         rayMax[index] = 0.0;
-        if (push.explain != 0u) why[index] = PIP_MASK_CORNER;
+        if (kExplain) why[index] = PIP_MASK_CORNER;
       }
       traceFlags[index] |= PIP_PENUMBRA;
     }
@@ -292,7 +293,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
   float raw = LIGHT_TEXEL(shadowMap, shadowTexels, clamp(t, ivec2(0), ivec2(res - 1)), face, res);
   float vis = ndc.z <= raw ? 1.0 : 0.0;  // exactly the sm answer
   if (slight) {
-    if (push.explain != 0u) why[index] = PIP_WHY_LIGHT_ERROR;
+    if (kExplain) why[index] = PIP_WHY_LIGHT_ERROR;
     return write(index, vis, 0u, 0.0, rayEnd);
   }
 
@@ -366,16 +367,15 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
     // light is below the receiver's tangent plane or its face's plane.
     flags &= ~PIP_SEAM;  // the windows handle seams
     // Explained, every rule that holds is named; else the first ends the search.
-    bool every = kExplain;
     uint rules = ((flags & PIP_EDGE) != 0u ? PIP_MASK_EDGE_DOUBT : 0u) |
                  ((flags & PIP_THIN) != 0u ? PIP_MASK_THIN_DOUBT : 0u) |
                  ((flags & PIP_CONTACT) != 0u ? PIP_MASK_CONTACT_DOUBT : 0u);
     if (facing < halfExtent || dot(nf, light.position.xyz - p) < halfExtent) rules |= PIP_MASK_TANGENT;
     if (vis == 0.0 && s >= lo) rules |= PIP_MASK_OWN_DEPTH;
-    if (rules == 0u || every) {
-      rules |= blockerWithinReach(p, offsetP, nf, texel, face, vis > 0.0, interior, t, halfExtent, every);
+    if (rules == 0u || kExplain) {
+      rules |= blockerWithinReach(p, offsetP, nf, texel, face, vis > 0.0, interior, t, halfExtent, kExplain);
     }
-    if (every) why[index] = rules;
+    if (kExplain) why[index] = rules;
     return write(index, vis, rules != 0u ? flags | PIP_PENUMBRA : flags, 0.0, rayEnd);
   }
   if (vis == 0.0 && s >= lo && flags == 0u) flags |= PIP_ACNE;
@@ -383,7 +383,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, out float rayEnd) 
       layerOver(p, nf, texel, viewProj, face, t)) flags |= PIP_CONTACT;
   if (vis == 0.0 && flags == 0u && gapBetweenBlockers(p, viewProj, face)) flags |= PIP_GAP;
   zMin = min(zMin, thinDepth);
-  if (push.explain != 0u) {
+  if (kExplain) {
     uint reason = PIP_WHY_NONE;
     if (flags == 0u) {
       if (overlaps) reason = PIP_WHY_BIAS;
