@@ -1,7 +1,7 @@
 #version 450
 // One level of the edge pyramid: each tile reduces the 2x2 tiles below it; level 1 finds the edge
-// texels of the shadow map (3x3 depth edge, or a thin triangle within a texel: the thin mask is
-// dilated, shared/thin.h) and their blocker depth, and the nearest depth of all its texels; from
+// texels of the shadow map (the near side of a 3x3 depth edge, or a thin triangle on the texel) and
+// their blocker depth, and the nearest depth of all its texels; from
 // level 2 on each tile also gets its surface fit (shared/pyramid.h).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/frame.h"
@@ -18,19 +18,33 @@ layout(push_constant) uniform PushBlock { PyramidPush push; };
 float linearDepth(float z) { return linearShadowDepth(push.kind, push.nearPlane, push.farPlane, z); }
 
 // Level 1: the nearest blocker depth of the edge texels among the 2x2 texels from q (1 = none), and
-// the nearest depth of the 2x2 texels (the surface channel; 1 outside the face). A
-// texel is an edge texel when its 3x3 neighbourhood (clamped to the face) spans more than the
-// threshold; its blocker depth is the neighbourhood's minimum. The four neighbourhoods share one
-// 4x4 window of loads (16 instead of 36).
+// the nearest depth of the 2x2 texels (the surface channel; 1 outside the face). An edge texel is
+// the near side of a depth edge: a texel of its 3x3 neighbourhood (clamped to the face) lies
+// farther by more than the threshold, so the blocker's silhouette runs within a texel of it; its
+// blocker depth is the neighbourhood's minimum (a blocker rising towards its silhouette). The far
+// side holds no blocker of its own. A thin triangle's texel is an edge texel too, at the depth of
+// the thin mask's 3x3 opening: the mask is dilated (each texel holds the nearest thin triangle
+// within its 3x3 block), so the largest of its 3x3 values is no nearer than any thin triangle
+// touching this texel, and the mask's search reaches as far from it as from an edge texel. The
+// four neighbourhoods share one 4x4 window of loads of each map (16 instead of 36); the thin mask's
+// is read only where one of the four holds a thin triangle (else every opening is 1).
 vec2 edgeTile(ivec2 q, uint face) {
   int res = int(push.resolution);
-  float raw[16], lin[16];
+  float raw[16], lin[16], thin[16];
+  bool stamped = false;
   for (int y = 0; y < 4; ++y) {
     for (int x = 0; x < 4; ++x) {
       ivec2 r = clamp(q + ivec2(x - 1, y - 1), ivec2(0), ivec2(res - 1));
       raw[y * 4 + x] = LIGHT_TEXEL(shadowMap, shadowTexels, r, face, res);
       lin[y * 4 + x] = linearDepth(raw[y * 4 + x]);
+      bool centre = (x == 1 || x == 2) && (y == 1 || y == 2);
+      thin[y * 4 + x] = push.useThin != 0u && centre ? LIGHT_TEXEL(thinMask, thinTexels, r, face, res) : 1.0;
+      stamped = stamped || thin[y * 4 + x] < 1.0;
     }
+  }
+  for (int k = 0; stamped && k < 16; ++k) {
+    ivec2 r = clamp(q + ivec2((k & 3) - 1, (k >> 2) - 1), ivec2(0), ivec2(res - 1));
+    thin[k] = LIGHT_TEXEL(thinMask, thinTexels, r, face, res);
   }
   vec2 tile = vec2(1.0);
   for (int j = 0; j < 2; ++j) {
@@ -39,15 +53,15 @@ vec2 edgeTile(ivec2 q, uint face) {
       if (c.x >= res || c.y >= res) continue;  // outside: neutral for the minimum
       float s = lin[(j + 1) * 4 + i + 1];
       float nearest = raw[(j + 1) * 4 + i + 1];
-      float delta = 0.0;
+      float farther = 0.0, opening = 0.0;
       for (int y = 0; y < 3; ++y) {
         for (int x = 0; x < 3; ++x) {
-          delta = max(delta, abs(lin[(j + y) * 4 + i + x] - s));
+          farther = max(farther, lin[(j + y) * 4 + i + x] - s);
           nearest = min(nearest, raw[(j + y) * 4 + i + x]);
+          opening = max(opening, thin[(j + y) * 4 + i + x]);
         }
       }
-      float blocker = delta > push.deltaThreshold ? nearest : 1.0;
-      if (push.useThin != 0u) blocker = min(blocker, LIGHT_TEXEL(thinMask, thinTexels, c, face, res));
+      float blocker = min(farther > push.deltaThreshold ? nearest : 1.0, opening);
       tile = min(tile, vec2(blocker, raw[(j + 1) * 4 + i + 1]));
     }
   }

@@ -125,9 +125,9 @@ vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plan
   if (cone.unbounded) return vec2(1.0, 1.0);
   ivec2 t = ivec2(cone.t);
   bool surface = channel == PYRAMID_SURFACE;
-  // A texel's footprint reaches half a texel from its centre; an edge texel's blocker depth is
-  // its 3x3 neighbourhood's, one texel further.
-  float pad = surface ? 0.5 : 1.5;
+  // A texel's footprint reaches half a texel from its centre; an edge texel's blocker reaches its
+  // silhouette, which runs within a texel of it (depth_pyramid.comp), as does a thin triangle on it.
+  float pad = surface ? 0.5 : 1.0;
   if (surface && !all(lessThan(abs(plane.g), vec2(1e30)))) return vec2(1.0, 0.0);  // edge-on: unbounded
   float rawLimit = rawDepth(d - push.depthMargin);  // blockers at or behind it cannot shadow p
   uint res = frame.shadow.resolution, faces = frame.shadow.faceCount, levels = push.pyramidLevels;

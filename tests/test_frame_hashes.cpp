@@ -4,7 +4,7 @@
 // recorded once on the device it names; on another device (another driver, CPU or GPU, whose float
 // results may round differently) the comparison is skipped and says so.
 // Record anew only for a change meant to alter frames:
-//   PENUMBRA_RECORD_FRAME_HASHES=1 build/tests/frame_hash_tests
+//   PENUMBRA_RECORD_FRAME_HASHES=1 build/bin/frame_hash_tests
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>

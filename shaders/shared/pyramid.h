@@ -1,7 +1,7 @@
 // Edge pyramid over a light's faces (raster/depth_pyramid_pass), the penumbra mask's source: an
-// edge texel has a depth edge in its 3x3 neighbourhood (max |s - s'| > threshold, the same test
-// as for hard shadows) or a thin triangle within a texel of it (the thin mask is dilated); its
-// blocker depth is the minimum depth there.
+// edge texel is the near side of a depth edge (a texel of its 3x3 neighbourhood lies farther by
+// more than the threshold, the hard shadows' edge test), its blocker depth the minimum depth
+// there, or a thin triangle touches it (the thin mask's 3x3 opening undoes its dilation).
 // Level k >= 1 holds, per tile of 2^k x 2^k texels, two raw NDC depths: the minimum blocker depth
 // of its edge texels (1 = none) and the minimum depth of all its texels (the surface channel: the
 // mask's search for a smooth surface rising over a lit receiver, which has no edge). One storage
