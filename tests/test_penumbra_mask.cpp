@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -227,6 +228,44 @@ TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
   expectValidationSilent();
 }
 
+// The light map of `spec` (a disk light 0.1 of its radius wide at its light), its thin mask when
+// withThin, and the edge pyramid over them, read back from the GPU. 200^2 texels: no power of two,
+// so tiles are cut at the face's edge.
+struct PyramidRun {
+  shared::ShadowMapInfo info;
+  std::uint32_t res = 200, levels = 0;
+  float threshold = 0.0f;                  // the frame's default --pip-delta, in linear depth
+  std::vector<float> texels, thin, tiles;  // thin: the dilated mask (empty without one)
+};
+PyramidRun pyramidRun(const char* spec, bool withThin) {
+  gpu::Context& context = validatedContext();
+  PyramidRun r;
+  raster::ShadowMapSettings map;
+  map.resolution = r.res;
+  map.reads = raster::ShadowMapSettings::Reads::Buffer;
+  const Scene scene = loadScene(spec);
+  Light light = scene.lights.front();
+  light.size = 0.1f * scene.bounds().radius();
+  r.info = raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
+  r.threshold = 0.002f * (r.info.farPlane - r.info.nearPlane);
+  const raster::SceneGeometry geometry(context, scene);
+  const raster::ShadowMapPass shadowMap(context, map, r.info.faceCount);
+  std::optional<raster::ThinTrianglePass> thin;
+  if (withThin) thin.emplace(context, map, r.info.faceCount);
+  const raster::DepthPyramidPass pyramid(context, map.resolution, r.info.faceCount);
+  context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+    shadowMap.record(cmd, geometry, r.info);
+    if (thin) thin->record(cmd, geometry, r.info);
+    pyramid.record(cmd, shadowMap, thin ? &*thin : nullptr, r.info, r.threshold);
+  });
+  const std::size_t texels = std::size_t(r.info.faceCount) * r.res * r.res;
+  r.levels = pyramid.levels();
+  r.texels = shadowMap.texels().download<float>(texels);
+  if (thin) r.thin = thin->texels().download<float>(texels);
+  r.tiles = pyramid.tiles().download<float>(pyramid.tiles().size() / sizeof(float));
+  return r;
+}
+
 // The edge pyramid's level 1 (depth_pyramid.comp), recomputed texel by texel on the CPU: an edge
 // texel is the near side of a depth edge (a 3x3 neighbour farther by more than the threshold; its
 // blocker depth the neighbourhood's minimum) or the thin mask's 3x3 opening, which undoes the
@@ -237,36 +276,18 @@ TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
 // close view's 28.2% instead of 21.9%, 512^2, light 0.1). The courtyard's boxes and columns, the
 // foliage's leaves.
 TEST(PenumbraMask, EdgeTexelsAreNearSidesOfDepthEdgesAndThinTriangles) {
-  gpu::Context& context = validatedContext();
-  raster::ShadowMapSettings map;
-  map.resolution = 200;  // no power of two: tiles cut at the face's edge
-  map.reads = raster::ShadowMapSettings::Reads::Buffer;
   std::size_t dilationStamps = 0;  // tiles only the dilation stamped, over both scenes
   for (const char* spec : {"builtin:courtyard", "builtin:foliage"}) {
-    const Scene scene = loadScene(spec);
-    Light light = scene.lights.front();
-    light.size = 0.1f * scene.bounds().radius();
-    const shared::ShadowMapInfo info =
-        raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
-    const raster::SceneGeometry geometry(context, scene);
-    const raster::ShadowMapPass shadowMap(context, map, info.faceCount);
-    raster::ThinTrianglePass thin(context, map, info.faceCount);
-    const raster::DepthPyramidPass pyramid(context, map.resolution, info.faceCount);
-    const float threshold = 0.002f * (info.farPlane - info.nearPlane);
-    context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-      shadowMap.record(cmd, geometry, info);
-      thin.record(cmd, geometry, info);
-      pyramid.record(cmd, shadowMap, &thin, info, threshold);
-    });
-    const int res = int(map.resolution);
-    const std::vector<float> depth = shadowMap.texels().download<float>(std::size_t(res) * res);
-    const std::vector<float> dilated = thin.texels().download<float>(std::size_t(res) * res);
-    const std::vector<float> tiles = pyramid.tiles().download<float>(pyramid.tiles().size() / sizeof(float));
+    const PyramidRun run = pyramidRun(spec, true);
+    const shared::ShadowMapInfo& info = run.info;
+    const int res = int(run.res);
+    const std::vector<float>&depth = run.texels, &dilated = run.thin, &tiles = run.tiles;
+    const float threshold = run.threshold;
     const auto at = [&](const std::vector<float>& v, int x, int y) {
       return v[std::size_t(std::clamp(y, 0, res - 1)) * res + std::size_t(std::clamp(x, 0, res - 1))];
     };
     const auto linear = [&](float z) { return shared::linearShadowDepth(info.kind, info.nearPlane, info.farPlane, z); };
-    const int dim = int(shared::pyramidDim(map.resolution, 1));
+    const int dim = int(shared::pyramidDim(run.res, 1));
     std::size_t nearSide = 0, farSideOnly = 0, thinOnly = 0, dilationOnly = 0, mismatches = 0, borderline = 0;
     for (int ty = 0; ty < dim; ++ty) {
       for (int tx = 0; tx < dim; ++tx) {
@@ -322,26 +343,10 @@ TEST(PenumbraMask, EdgeTexelsAreNearSidesOfDepthEdgesAndThinTriangles) {
 // texel on the CPU: a perspective map (the courtyard's disk light), the knot's, and a cube (a
 // spherical light inside the room).
 TEST(PenumbraMask, SurfaceFitsBoundEveryTexelOfTheirTiles) {
-  gpu::Context& context = validatedContext();
-  raster::ShadowMapSettings map;
-  map.resolution = 200;  // no power of two: tiles cut at the face's edge
-  map.reads = raster::ShadowMapSettings::Reads::Buffer;
   for (const char* spec : {"builtin:courtyard", "builtin:knot", "builtin:room"}) {
-    const Scene scene = loadScene(spec);
-    Light light = scene.lights.front();
-    light.size = 0.1f * scene.bounds().radius();
-    const shared::ShadowMapInfo info =
-        raster::makeShadowMapInfo(toGpuLight(light, scene.bounds()), scene.bounds(), map);
-    const raster::SceneGeometry geometry(context, scene);
-    const raster::ShadowMapPass shadowMap(context, map, info.faceCount);
-    const raster::DepthPyramidPass pyramid(context, map.resolution, info.faceCount);
-    context.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
-      shadowMap.record(cmd, geometry, info);
-      pyramid.record(cmd, shadowMap, nullptr, info, 0.002f * (info.farPlane - info.nearPlane));
-    });
-    const std::uint32_t res = map.resolution, faces = info.faceCount, levels = pyramid.levels();
-    const std::vector<float> texels = shadowMap.texels().download<float>(std::size_t(faces) * res * res);
-    const std::vector<float> tiles = pyramid.tiles().download<float>(pyramid.tiles().size() / sizeof(float));
+    const PyramidRun run = pyramidRun(spec, false);
+    const std::uint32_t res = run.res, faces = run.info.faceCount, levels = run.levels;
+    const std::vector<float>&texels = run.texels, &tiles = run.tiles;
     std::size_t checked = 0, violations = 0, flat = 0, levelTwo = 0;
     std::vector<double> belows, slopes;  // of the covered level-2 tiles
     double worst = -1.0;
