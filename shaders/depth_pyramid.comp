@@ -42,9 +42,10 @@ vec2 edgeTile(ivec2 q, uint face) {
       stamped = stamped || thin[y * 4 + x] < 1.0;
     }
   }
-  for (int k = 0; stamped && k < 16; ++k) {
-    ivec2 r = clamp(q + ivec2((k & 3) - 1, (k >> 2) - 1), ivec2(0), ivec2(res - 1));
-    thin[k] = LIGHT_TEXEL(thinMask, thinTexels, r, face, res);
+  for (int k = 0; stamped && k < 16; ++k) {  // the ring around the four, read above
+    int x = k & 3, y = k >> 2;
+    if ((x == 1 || x == 2) && (y == 1 || y == 2)) continue;
+    thin[k] = LIGHT_TEXEL(thinMask, thinTexels, clamp(q + ivec2(x - 1, y - 1), ivec2(0), ivec2(res - 1)), face, res);
   }
   vec2 tile = vec2(1.0);
   for (int j = 0; j < 2; ++j) {
