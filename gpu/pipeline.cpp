@@ -140,13 +140,15 @@ SpecializedComputePipeline::SpecializedComputePipeline(const Context& context, s
                                                        std::uint32_t pushConstantBytes, std::string name)
     : context_(context), spirv_(spirv), bindings_(bindings), pushConstantBytes_(pushConstantBytes), name_(std::move(name)) {}
 
-const ComputePipeline& SpecializedComputePipeline::operator()(bool value, bool second) const {
-  std::optional<ComputePipeline>& variant = variants_[(value ? 1 : 0) + (second ? 2 : 0)];
-  const std::array<std::uint32_t, 2> constants{value ? 1u : 0u, 1u};
+const ComputePipeline& SpecializedComputePipeline::operator()(bool value, bool second, bool third) const {
+  std::optional<ComputePipeline>& variant = variants_[(value ? 1 : 0) + (second ? 2 : 0) + (third ? 4 : 0)];
+  const std::array<std::uint32_t, 3> constants{value ? 1u : 0u, second ? 1u : 0u, third ? 1u : 0u};
+  const std::size_t given = third ? 3 : second ? 2 : 1;
   if (!variant) {
-    variant.emplace(context_, spirv_, bindings_, pushConstantBytes_,
-                    name_ + (value ? " (1" : " (0") + (second ? ", 1)" : ")"),
-                    std::span<const std::uint32_t>(constants.data(), second ? 2 : 1));
+    std::string name = name_ + " (";
+    for (std::size_t i = 0; i < given; ++i) name += (i ? ", " : "") + std::to_string(constants[i]);
+    variant.emplace(context_, spirv_, bindings_, pushConstantBytes_, name + ")",
+                    std::span<const std::uint32_t>(constants.data(), given));
   }
   return *variant;
 }

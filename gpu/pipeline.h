@@ -77,7 +77,8 @@ class ComputePipeline {
 };
 
 // A compute shader with one boolean specialization constant (constant_id 0), and optionally a
-// second (constant_id 1, given only where set, so that shaders without it keep their pipeline): a
+// second and a third (constant_id 1, 2, given only where set, so that shaders without them keep
+// their pipeline): a
 // choice fixed for a whole dispatch that would otherwise be made in every invocation (where that
 // compiles to a select, lavapipe pays for both sides). One pipeline per value, each created when
 // first used.
@@ -85,7 +86,7 @@ class SpecializedComputePipeline {
  public:
   SpecializedComputePipeline(const Context& context, std::span<const std::uint32_t> spirv,
                              std::span<const Binding> bindings, std::uint32_t pushConstantBytes, std::string name);
-  const ComputePipeline& operator()(bool value, bool second = false) const;
+  const ComputePipeline& operator()(bool value, bool second = false, bool third = false) const;
 
  private:
   const Context& context_;
@@ -93,7 +94,7 @@ class SpecializedComputePipeline {
   std::span<const Binding> bindings_;
   std::uint32_t pushConstantBytes_;
   std::string name_;
-  mutable std::array<std::optional<ComputePipeline>, 4> variants_;
+  mutable std::array<std::optional<ComputePipeline>, 8> variants_;
 };
 
 struct GraphicsPipelineDesc {

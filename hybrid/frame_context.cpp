@@ -16,6 +16,11 @@ namespace penumbra {
 namespace {
 
 vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
+// The classification's tiles (PIP_GROUP_SIZE^2 pixels each), the penumbra mask's tile test's unit.
+vk::DeviceSize maskTiles(const RenderSettings& s) {
+  return vk::DeviceSize((s.width + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE) *
+         ((s.height + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE);
+}
 
 // Settings with the shadow maps' read path resolved for this device, so every map made from them
 // (centre, corners, msm) tells its shaders the same.
@@ -70,6 +75,8 @@ FrameContext::FrameContext(const gpu::Context& context, const Scene& scene, cons
               vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "ray max"),
       why_(context, settings.pip.explain ? pixels(settings) * sizeof(std::uint32_t) : sizeof(std::uint32_t),
            vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, "pip why"),
+      maskTiles_(context, maskTiles(settings) * sizeof(std::uint32_t), vk::BufferUsageFlagBits::eStorageBuffer,
+                 "penumbra mask tiles"),
       blockers_(context, settings.denoise.mode != DenoiseMode::Off ? pixels(settings) * sizeof(float) : sizeof(float),
                 vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress,
                 "blocker distances"),
@@ -299,6 +306,9 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
   const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
   auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
   push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
+  push.tileTest =
+      settings_.pip.tileTest && shared::isAreaLight(frameData_.light) && frameData_.shadow.faceCount == 1 ? 1u : 0u;
+  maskTilesTested_ = push.tileTest != 0u;
   if (!m.pyramid) {
     m.pyramid =
         std::make_unique<raster::DepthPyramidPass>(context_, mapSettings_.resolution, frameData_.shadow.faceCount);
@@ -316,10 +326,16 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
       m.pyramidKey = key;
     }
   }
-  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_};
+  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_, maskTiles_};
+  if (push.tileTest) {
+    timer_.begin(cmd, "mask_tiles");
+    classify_.recordTileTest(cmd, gbuffer_, *m.shadowMap, thinPass, *m.pyramid, frameBuffer_, out, push,
+                             settings_.pip.explain);
+    timer_.end(cmd);
+  }
   timer_.begin(cmd, "classify");
   if (push.appendList) recordTraceCount(cmd, {0, 0, 1, 1});  // an empty list: workgroups add to count and groupsX
-  classify_.record(cmd, gbuffer_, *m.shadowMap, thinPass, *m.pyramid, frameBuffer_, out, push);
+  classify_.record(cmd, gbuffer_, *m.shadowMap, thinPass, *m.pyramid, frameBuffer_, out, push, settings_.pip.explain);
   timer_.end(cmd);
   if (cornerMaps) {
     if (!cornerMaps_) cornerMaps_ = std::make_unique<raster::CornerMapsPass>(context_, settings_.shadowMap);
@@ -536,6 +552,15 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
       const auto why = why_.download<std::uint32_t>(pixels);
       frame.pipWhy.assign(why.begin(), why.end());
     }
+  }
+  if (method.classifies() && maskTilesTested_) {  // the penumbra mask's tile test: tiles with receivers, clear ones
+    std::uint64_t tested = 0, clear = 0;
+    for (const std::uint32_t tile : maskTiles_.download<std::uint32_t>(maskTiles(settings_))) {
+      tested += tile != PIP_TILE_NONE;
+      clear += tile == PIP_TILE_CLEAR;
+    }
+    stats.counts["mask_tiles"] = tested;
+    stats.counts["mask_tiles_clear"] = clear;
   }
 
   if (mapsPastBudget_) {

@@ -251,8 +251,9 @@ class FrameContext {
   // that resolution and face count renders again.
   static constexpr std::uint32_t kSharedMaps = ~0u;
   std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, LightMaps> lightMaps_;
-  LightMaps* maps_ = nullptr;    // this light's, chosen on first use in its frame (maps())
-  bool mapsPastBudget_ = false;  // its own would not fit settings().lightMapsMiB
+  LightMaps* maps_ = nullptr;     // this light's, chosen on first use in its frame (maps())
+  bool maskTilesTested_ = false;  // the last classification ran the penumbra mask's tile test (PipPush::tileTest)
+  bool mapsPastBudget_ = false;   // its own would not fit settings().lightMapsMiB
   LightMaps& maps();
   LightMaps& chooseMaps();
   // The moving meshes' boxes as of the last sceneMoved, and what the last moves swept (each mesh's
@@ -274,7 +275,7 @@ class FrameContext {
   std::unique_ptr<LineSpaceTracer> ntree_;
   std::unique_ptr<NTreeCandidateTracer> ntreeLs_;
   gpu::Buffer frameBuffer_, visibility_, indirect_, color_;
-  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, blockers_;
+  gpu::Buffer smVisibility_, traceFlags_, rayMax_, why_, maskTiles_, blockers_;
   gpu::GpuTimer timer_;
   shared::FrameData frameData_{};
   ViewMatrices view_;

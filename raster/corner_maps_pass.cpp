@@ -38,10 +38,10 @@ void CornerMapsPass::record(const vk::raii::CommandBuffer& cmd, const SceneGeome
     push.cornerUnion = 1u;
     push.useIntervals = 0u;
     push.appendList = 0u;
-    push.explain = pip.explain ? 1u : 0u;  // the pixels a corner map adds to the mask (PIP_MASK_CORNER)
     map_->record(cmd, geometry, infos[i]);
     pyramid_->record(cmd, *map_, nullptr, infos[i], push.deltaThreshold);
-    classify.record(cmd, gbuffer, *map_, nullptr, *pyramid_, *frames_[i], out, push);
+    // explained: the pixels a corner map adds to the mask (PIP_MASK_CORNER)
+    classify.record(cmd, gbuffer, *map_, nullptr, *pyramid_, *frames_[i], out, push, pip.explain);
   }
 }
 

@@ -7,19 +7,19 @@
 namespace penumbra::raster {
 namespace {
 
-constexpr gpu::Binding kBindings[] = {
-    {PIP_BINDING_POSITION, vk::DescriptorType::eStorageImage},
-    {PIP_BINDING_NORMAL, vk::DescriptorType::eStorageImage},
-    {PIP_BINDING_SHADOW_MAP, vk::DescriptorType::eCombinedImageSampler},
-    {PIP_BINDING_THIN_MASK, vk::DescriptorType::eCombinedImageSampler},
-    {PIP_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_SM_VISIBILITY, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_TRACE_FLAGS, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_RAY_MAX, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_COUNT, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_WHY, vk::DescriptorType::eStorageBuffer},
-    {PIP_BINDING_FACE_NORMAL, vk::DescriptorType::eStorageImage}};
+constexpr gpu::Binding kBindings[] = {{PIP_BINDING_POSITION, vk::DescriptorType::eStorageImage},
+                                      {PIP_BINDING_NORMAL, vk::DescriptorType::eStorageImage},
+                                      {PIP_BINDING_SHADOW_MAP, vk::DescriptorType::eCombinedImageSampler},
+                                      {PIP_BINDING_THIN_MASK, vk::DescriptorType::eCombinedImageSampler},
+                                      {PIP_BINDING_FRAME, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_SM_VISIBILITY, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_TRACE_FLAGS, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_RAY_MAX, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_COUNT, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_WHY, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_FACE_NORMAL, vk::DescriptorType::eStorageImage},
+                                      {PIP_BINDING_MASK_TILES, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -38,6 +38,10 @@ const Options<PipSettings>& pipOptions() {
         .sweep("pmaps", {"srt"}, true);
     o.flag("--no-thin", "pip/thin_pass", &PipSettings::thinPass, "Turn off the thin-triangle conservative pass of srt",
            false);
+    o.choice("--tile-test", "pip/tile_test", &PipSettings::tileTest,
+             "Area lights: search the penumbra mask once for each 16x16 tile of pixels first; where that finds no "
+             "blocker, none of the tile's pixels searches (off: every pixel searches)",
+             {{"on", true}, {"off", false}});
     o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,
              "Bound srt's hard-shadow rays by the shadow map's blocker depths", {{"on", true}, {"off", false}});
     return o;
@@ -57,41 +61,65 @@ shared::PipPush PipClassifyPass::pushFor(const PipSettings& settings, const shar
   push.depthMargin = settings.marginTexels * std::min(texel, sceneRadius);
   push.useThin = thinMaskBound ? 1u : 0u;
   push.useIntervals = settings.rayIntervals ? 1u : 0u;
-  push.explain = settings.explain ? 1u : 0u;
   return push;
 }
 
-void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-                             const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
-                             const PipBuffers& out, shared::PipPush push) const {
-  push.pyramidLevels = pyramid.levels();
-  push.shadowTexelsAt = gpu::addressHalves(shadowMap.texels());
-  push.thinTexelsAt = gpu::addressHalves(thin ? thin->texels() : shadowMap.texels());
-  push.tilesAt = gpu::addressHalves(pyramid.tiles());
-  if (push.explain) {
+void PipClassifyPass::recordTileTest(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer,
+                                     const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
+                                     const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out,
+                                     shared::PipPush push, bool explain) const {
+  gpu::Descriptors descriptors;  // built in place: it holds pointers into itself
+  complete(descriptors, push, gbuffer, shadowMap, thin, pyramid, frame, out);
+  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), explain, true);
+  pipeline.bind(cmd, descriptors);
+  pipeline.pushConstants(cmd, push);
+  const std::uint32_t tilesX = (gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE;
+  const std::uint32_t tilesY = (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE;
+  cmd.dispatch((tilesX + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (tilesY + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
+  gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite,
+                     vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead);
+}
+
+void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer,
+                             const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
+                             const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out,
+                             shared::PipPush push, bool explain) const {
+  if (explain) {
     cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
     gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite,
                        vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
   }
-  // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
-  const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
-  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), push.explain != 0u);
-  pipeline.bind(cmd, gpu::Descriptors{}
-                         .storageImage(PIP_BINDING_POSITION, gbuffer.position().view())
-                         .storageImage(PIP_BINDING_NORMAL, gbuffer.normal().view())
-                         .sampledImage(PIP_BINDING_SHADOW_MAP, shadowMap.depth().view(), shadowMap.sampler())
-                         .sampledImage(PIP_BINDING_THIN_MASK, thinView, thin ? thin->sampler() : shadowMap.sampler())
-                         .buffer(PIP_BINDING_FRAME, frame)
-                         .buffer(PIP_BINDING_VISIBILITY, out.visibility)
-                         .buffer(PIP_BINDING_SM_VISIBILITY, out.smVisibility)
-                         .buffer(PIP_BINDING_TRACE_FLAGS, out.traceFlags)
-                         .buffer(PIP_BINDING_RAY_MAX, out.rayMax)
-                         .buffer(PIP_BINDING_COUNT, out.count)
-                         .buffer(PIP_BINDING_WHY, out.why)
-                         .storageImage(PIP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view()));
+  gpu::Descriptors descriptors;
+  complete(descriptors, push, gbuffer, shadowMap, thin, pyramid, frame, out);
+  const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), explain);
+  pipeline.bind(cmd, descriptors);
   pipeline.pushConstants(cmd, push);
   cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);
+}
+
+void PipClassifyPass::complete(gpu::Descriptors& descriptors, shared::PipPush& push, const GBufferPass& gbuffer,
+                               const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
+                               const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out) {
+  push.pyramidLevels = pyramid.levels();
+  push.shadowTexelsAt = gpu::addressHalves(shadowMap.texels());
+  push.thinTexelsAt = gpu::addressHalves(thin ? thin->texels() : shadowMap.texels());
+  push.tilesAt = gpu::addressHalves(pyramid.tiles());
+  // Without a thin mask the bindings still need an image and a buffer: the shadow map's stand in, unread.
+  const vk::ImageView thinView = thin ? thin->depth().view() : shadowMap.depth().view();
+  descriptors.storageImage(PIP_BINDING_POSITION, gbuffer.position().view())
+      .storageImage(PIP_BINDING_NORMAL, gbuffer.normal().view())
+      .sampledImage(PIP_BINDING_SHADOW_MAP, shadowMap.depth().view(), shadowMap.sampler())
+      .sampledImage(PIP_BINDING_THIN_MASK, thinView, thin ? thin->sampler() : shadowMap.sampler())
+      .buffer(PIP_BINDING_FRAME, frame)
+      .buffer(PIP_BINDING_VISIBILITY, out.visibility)
+      .buffer(PIP_BINDING_SM_VISIBILITY, out.smVisibility)
+      .buffer(PIP_BINDING_TRACE_FLAGS, out.traceFlags)
+      .buffer(PIP_BINDING_RAY_MAX, out.rayMax)
+      .buffer(PIP_BINDING_COUNT, out.count)
+      .buffer(PIP_BINDING_WHY, out.why)
+      .storageImage(PIP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view())
+      .buffer(PIP_BINDING_MASK_TILES, out.maskTiles);
 }
 
 }  // namespace penumbra::raster

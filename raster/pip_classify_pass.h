@@ -19,7 +19,8 @@ struct PipSettings {
   std::uint32_t penumbraMaps = 1; // area lights: 1 = the centre's map, 5 = also the four corners' maps
   bool appendList = true;         // the classification writes the trace list itself (else the compaction
                                   // pass makes it from the flags, as it must when corner maps add flags)
-  bool explain = false;           // hard shadows: write why each unflagged pixel was left out (PIP_WHY_*)
+  bool tileTest = true;           // area lights: the penumbra mask's search once per tile first (PipPush::tileTest)
+  bool explain = false;           // write why each unflagged pixel was left out (PIP_WHY_*; area lights: PIP_MASK_*)
 };
 
 // The command line's options of the classification (--pip-delta, --ray-intervals, ...).
@@ -35,22 +36,35 @@ struct PipBuffers {
   // The list itself is written through frame's FrameData::tracePoints, only where the flags are
   // nonzero, like smVisibility and rayMax.
   const gpu::Buffer& count;
-  const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written with PipPush::explain (zeroed first)
+  const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written where explained (zeroed first)
+  // uint per tile of PIP_GROUP_SIZE^2 pixels: PIP_TILE_*, written where PipPush::tileTest.
+  const gpu::Buffer& maskTiles;
 };
 
 class PipClassifyPass {
  public:
   explicit PipClassifyPass(const gpu::Context& context);
-  // thin: the thin-triangle mask's pass, or nullptr when the thin pass is off.
+  // thin: the thin-triangle mask's pass, or nullptr when the thin pass is off; explain: write `why`
+  // (PipSettings::explain). Where push.tileTest, recordTileTest goes first, with the same arguments.
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
-              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out,
-              shared::PipPush push) const;
+              const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
+              const PipBuffers& out, shared::PipPush push, bool explain) const;
+  // The penumbra mask's tile test (maskTile in the shader; one invocation per PIP_GROUP_SIZE^2
+  // tile of pixels): out.maskTiles.
+  void recordTileTest(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
+                      const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
+                      const PipBuffers& out, shared::PipPush push, bool explain) const;
 
   // The push constants for `settings` on this frame's shadow map.
   static shared::PipPush pushFor(const PipSettings& settings, const shared::ShadowMapInfo& info, bool thinMaskBound,
                                  float sceneRadius);
 
  private:
+  // The push constants' addresses and levels, and every binding, for either dispatch.
+  static void complete(gpu::Descriptors& descriptors, shared::PipPush& push, const GBufferPass& gbuffer,
+                       const ShadowMapPass& shadowMap, const ThinTrianglePass* thin, const DepthPyramidPass& pyramid,
+                       const gpu::Buffer& frame, const PipBuffers& out);
+
   gpu::SpecializedComputePipeline pipeline_;  // on texelReads()
 };
 

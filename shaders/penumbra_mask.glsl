@@ -13,23 +13,32 @@
 // alpha * u + beta, with u = 1/z (ortho: z), itself affine in the map's raw depth: a window costs
 // a few multiply-adds.
 // Windows shrink as z grows: the cone from p to the light narrows.
+// A tile's cone (maskTile in pip_classify.comp) bounds the windows of several receivers: the bounds of their
+// alphas and betas per corner, and of their texels (one receiver: lo = hi).
 struct SplatCone {
-  vec2 alpha[4], beta[4];  // per corner: its point at depth parameter u lies at texel alpha * u + beta
-  vec2 t;                  // p's texel
-  vec2 uOfRaw;             // u = uOfRaw.x + uOfRaw.y * raw depth
-  bool unbounded;          // a corner lies behind the map's eye: every window is unbounded
+  vec2 alphaLo[4], alphaHi[4];  // per corner: its point at depth parameter u lies at texel alpha * u + beta,
+  vec2 betaLo[4], betaHi[4];    // alpha and beta within these bounds
+  vec2 tLo, tHi;                // p's texel
+  vec2 uOfRaw;                  // u = uOfRaw.x + uOfRaw.y * raw depth
+  bool unbounded;               // a corner lies behind the map's eye: every window is unbounded
 };
+
+// u of the raw depth: u = coneDepthOfRaw().x + coneDepthOfRaw().y * raw.
+vec2 coneDepthOfRaw() {
+  float near = frame.shadow.nearPlane, far = frame.shadow.farPlane;
+  return frame.shadow.kind == SHADOW_ORTHO ? vec2(near, far - near) : vec2(1.0 / near, (near - far) / (near * far));
+}
 
 SplatCone splatCone(vec3 p, mat4 viewProj, ivec2 t) {
   vec3 tan1 = frame.light.tangent.xyz;
   vec3 tan2 = cross(frame.light.direction.xyz, tan1);
   float h = 0.5 * frame.light.size;
   float halfRes = 0.5 * float(frame.shadow.resolution);
-  float near = frame.shadow.nearPlane, far = frame.shadow.farPlane;
   bool ortho = frame.shadow.kind == SHADOW_ORTHO;
   SplatCone cone;
-  cone.t = vec2(t);
-  cone.uOfRaw = ortho ? vec2(near, far - near) : vec2(1.0 / near, (near - far) / (near * far));
+  cone.tLo = vec2(t);
+  cone.tHi = vec2(t);
+  cone.uOfRaw = coneDepthOfRaw();
   cone.unbounded = false;
   vec4 cp = viewProj * vec4(p, 1.0);
   float dp = axisDepth(cp);
@@ -48,8 +57,8 @@ SplatCone splatCone(vec3 p, mat4 viewProj, ivec2 t) {
       cone.unbounded = cone.unbounded || cq.w <= 1e-6 * dp;
       beta = cq.xy / cq.w;
     }
-    cone.alpha[j] = halfRes * alpha;
-    cone.beta[j] = halfRes * beta + halfRes;
+    cone.alphaLo[j] = cone.alphaHi[j] = halfRes * alpha;
+    cone.betaLo[j] = cone.betaHi[j] = halfRes * beta + halfRes;
   }
   return cone;
 }
@@ -57,22 +66,23 @@ SplatCone splatCone(vec3 p, mat4 viewProj, ivec2 t) {
 // window(z) of the raw depth z as an inclusive texel range, widened by pad texels.
 void splatWindow(SplatCone cone, float raw, float pad, out ivec2 lo, out ivec2 hi) {
   float u = cone.uOfRaw.x + cone.uOfRaw.y * raw;
-  vec2 a = cone.t, b = cone.t;
+  vec2 a = cone.tLo, b = cone.tHi;
   for (int j = 0; j < 4; ++j) {
-    vec2 e = cone.alpha[j] * u + cone.beta[j];
-    a = min(a, e);
-    b = max(b, e);
+    vec2 e0 = cone.alphaLo[j] * u, e1 = cone.alphaHi[j] * u;  // u may be negative (orthographic)
+    a = min(a, min(e0, e1) + cone.betaLo[j]);
+    b = max(b, max(e0, e1) + cone.betaHi[j]);
   }
   lo = ivec2(floor(a - pad));
   hi = ivec2(ceil(b + pad));
 }
 
 // p's plane (in mapPlane's depth measure) at its highest over the texel centres of the tile xy of
-// level k (1 texel at k = 0).
+// level k (1 texel at k = 0). A tile's plane (maskTile) is the highest of its receivers'.
 float planeMaxOver(MapPlane plane, ivec2 xy, uint k) {
   float halfSpan = 0.5 * float((1 << k) - 1);
-  vec2 centre = vec2(xy << k) + 0.5 + halfSpan;
-  return plane.s0 + dot(plane.g, centre - plane.e0) + halfSpan * (abs(plane.g.x) + abs(plane.g.y));
+  vec2 toCentre = vec2(xy << k) + 0.5 + halfSpan - plane.e0;
+  vec2 rise = max(plane.gLo * toCentre, plane.gHi * toCentre) + halfSpan * max(abs(plane.gLo), abs(plane.gHi));
+  return plane.s0 + rise.x + rise.y;
 }
 
 // Whether the surface fit of the tile xy of level k >= 2 (at `fit` in the pyramid) allows a texel
@@ -80,12 +90,12 @@ float planeMaxOver(MapPlane plane, ivec2 xy, uint k) {
 // plane somewhere over the tile's texel centres. Compared in raw depth, where both are affine.
 bool fitOver(MapPlane plane, ivec2 xy, uint k, uint fit) {
   vec2 g = vec2(tiles[fit + PYRAMID_FIT_GRADIENT], tiles[fit + PYRAMID_FIT_GRADIENT + 1u]);
-  vec2 centre = vec2(xy << k) + float(1 << (k - 1u));
-  vec2 gp = plane.g / plane.sOfRaw.y;  // p's plane per texel in raw depth
-  float atCentre =
-      tiles[fit + PYRAMID_FIT_CENTRE] - tiles[fit + PYRAMID_FIT_BELOW] - (plane.raw0 + dot(gp, centre - plane.e0));
-  vec2 dg = g - gp;
-  return atCentre - 0.5 * float((1 << k) - 1) * (abs(dg.x) + abs(dg.y)) < -plane.tol / plane.sOfRaw.y;
+  vec2 toCentre = vec2(xy << k) + float(1 << (k - 1u)) - plane.e0;
+  vec2 gLo = plane.gLo / plane.sOfRaw.y, gHi = plane.gHi / plane.sOfRaw.y;  // p's plane per texel in raw depth
+  vec2 rise = max(gLo * toCentre, gHi * toCentre);
+  float atCentre = tiles[fit + PYRAMID_FIT_CENTRE] - tiles[fit + PYRAMID_FIT_BELOW] - (plane.raw0 + rise.x + rise.y);
+  vec2 dg = max(abs(g - gLo), abs(g - gHi));
+  return atCentre - 0.5 * float((1 << k) - 1) * (dg.x + dg.y) < -plane.tol / plane.sOfRaw.y;
 }
 
 // Whether a texel of the 2x2 tile xy (level 1) is nearer than rawLimit, over p's plane by more than
@@ -123,12 +133,12 @@ bool texelOverWithinReach(SplatCone cone, MapPlane plane, ivec2 xy, uint face, f
 // t first. A search that visits PIP_MAX_TILE_VISITS tiles keeps the pixel in the mask.
 vec2 withinReach(SplatCone cone, uint face, float d, uint channel, MapPlane plane) {
   if (cone.unbounded) return vec2(1.0, 1.0);
-  ivec2 t = ivec2(cone.t);
+  ivec2 t = ivec2(floor(0.5 * (cone.tLo + cone.tHi)));
   bool surface = channel == PYRAMID_SURFACE;
   // A texel's footprint reaches half a texel from its centre; an edge texel's blocker reaches its
   // silhouette, which runs within a texel of it (depth_pyramid.comp), as does a thin triangle on it.
   float pad = surface ? 0.5 : 1.0;
-  if (surface && !all(lessThan(abs(plane.g), vec2(1e30)))) return vec2(1.0, 0.0);  // edge-on: unbounded
+  if (surface && !all(lessThan(max(abs(plane.gLo), abs(plane.gHi)), vec2(1e30)))) return vec2(1.0, 0.0);  // edge-on
   float rawLimit = rawDepth(d - push.depthMargin);  // blockers at or behind it cannot shadow p
   uint res = frame.shadow.resolution, faces = frame.shadow.faceCount, levels = push.pyramidLevels;
   // The face's nearest blocker bounds every window: the search starts at the level where that

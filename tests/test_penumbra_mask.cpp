@@ -228,6 +228,68 @@ TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
   expectValidationSilent();
 }
 
+// The mask's tile test (--tile-test, maskTile in pip_classify.comp) searches once for the
+// receivers of a 16x16 tile of pixels together, in windows that hold each of theirs: the bounds of
+// their cones, their farthest depth, the highest of their planes. Where it finds no blocker, no
+// pixel of the tile searches. It must leave every pixel's mask as it was, explained too (every
+// rule's bits), and it must clear tiles, or it is only a cost. The cases: edge splats of boxes,
+// columns, a sphere and a torus (the courtyard, a disk and a square light, and the rail view of
+// its fence under light 6 degrees off its side faces), of thin leaves (the foliage), and smooth
+// surfaces rising over lit receivers (the groove: the surface channel). Loosened, the test fails:
+// bounding the blockers by the tile's nearest receiver instead of its farthest changes the
+// courtyard's mask, dropping the surface channel the groove's. (The spread of the receivers'
+// cone slopes decides no tile here: the first receiver's slopes for all of them change nothing.)
+TEST(PenumbraMask, TileTestLeavesEveryPixelsMaskAsItWas) {
+  struct Case {
+    std::string name;
+    Scene scene;
+    float size;
+    std::optional<Camera> camera;
+    LightType type = LightType::Disk;
+    bool explain = false;
+  };
+  const std::vector<Case> cases = {
+      {"courtyard", loadScene("builtin:courtyard"), 0.1f, std::nullopt},
+      {"courtyard explained", loadScene("builtin:courtyard"), 0.1f, std::nullopt, LightType::Disk, true},
+      {"courtyard square light", loadScene("builtin:courtyard"), 0.1f, std::nullopt, LightType::Rect},
+      {"courtyard rail", loadScene("builtin:courtyard"), 0.1f,
+       Camera{.eye = {7.0f, 17.0f, 22.0f}, .target = {6.6939f, 11.0691f, 13.7044f}, .fovYDeg = 23.402f}},
+      {"foliage", loadScene("builtin:foliage"), 0.1f, std::nullopt},
+      {"groove", grooveScene({2.0f, 4.0f, 0.0f}), 0.8f, std::nullopt},
+  };
+  std::uint64_t clearOverAll = 0;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    RenderSettings settings = maskSettings(384);
+    settings.pip.explain = c.explain;
+    Frame with, without;
+    for (const bool test : {true, false}) {
+      settings.pip.tileTest = test;
+      SceneRun run(c.scene, settings);
+      if (c.camera) run.camera = *c.camera;
+      run.light.type = c.type;
+      run.light.size = c.size * c.scene.bounds().radius();
+      (test ? with : without) = run.render("srt");
+    }
+    EXPECT_EQ(without.stats.counts.count("mask_tiles"), 0u);
+    ASSERT_EQ(with.stats.counts.count("mask_tiles"), 1u) << "the tile test did not run";
+    const std::uint64_t tiles = with.stats.counts.at("mask_tiles"), clear = with.stats.counts.at("mask_tiles_clear");
+    std::cout << c.name << ": " << clear << " of " << tiles << " tiles with receivers clear\n";
+    EXPECT_LT(clear, tiles);
+    clearOverAll += clear;
+    std::size_t differ = 0, masked = 0;
+    for (std::size_t i = 0; i < with.pip.size(); ++i) {
+      differ += with.pip[i] != without.pip[i];
+      masked += with.pip[i] != 0;
+    }
+    EXPECT_EQ(differ, 0u) << "of " << masked << " masked pixels";
+    EXPECT_GT(masked, 0u);
+    if (c.explain) EXPECT_EQ(with.pipWhy, without.pipWhy);
+  }
+  EXPECT_GT(clearOverAll, 0u);
+  expectValidationSilent();
+}
+
 // The light map of `spec` (a disk light 0.1 of its radius wide at its light), its thin mask when
 // withThin, and the edge pyramid over them, read back from the GPU. 200^2 texels: no power of two,
 // so tiles are cut at the face's edge.

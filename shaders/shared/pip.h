@@ -21,6 +21,12 @@ PN_BEGIN
 #define PIP_BINDING_COUNT 13          // TraceCount of the list PipPush::appendList fills
 #define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_* (area lights: PIP_MASK_* bits where flagged)
 #define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
+#define PIP_BINDING_MASK_TILES 16     // uint per PIP_GROUP_SIZE^2 tile of pixels: PIP_TILE_* (PipPush::tileTest)
+
+// The penumbra mask's tile test (PipPush::tileTest): what it found for a tile's pixels.
+#define PIP_TILE_NONE 0u    // no pixel of the tile searches
+#define PIP_TILE_SEARCH 1u  // a blocker may lie within reach of one of them: each searches alone
+#define PIP_TILE_CLEAR 2u   // no blocker lies within reach of any of them: none searches
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
@@ -38,7 +44,7 @@ PN_BEGIN
 // depth interval, so it may be the receiver itself (acne the bias left)
 #define PIP_ACNE 128u
 
-// Why the classification left a covered pixel unflagged (PipPush::explain, the miss explainer):
+// Why the classification left a covered pixel unflagged (explained: PipSettings::explain, the miss explainer):
 // what went wrong if its sm answer is wrong. The host splits BIAS and FLAT by the sm answer.
 #define PIP_WHY_NONE 0u      // flagged (area lights: PIP_MASK_* bits instead), not covered, or not explained
 #define PIP_WHY_FACING 1u    // the receiver faces away from the light: dark by rule, no map read
@@ -51,7 +57,7 @@ PN_BEGIN
 #define PIP_WHY_LIGHT_ERROR 6u  // the light's shadow weighs less than --light-error there (shadowWeight)
 #define PIP_WHY_COUNT 7u
 
-// Area lights, with PipPush::explain: for a pixel in the penumbra mask, the bits of every rule that
+// Area lights, explained: for a pixel in the penumbra mask, the bits of every rule that
 // puts it there (in `why`, instead of a PIP_WHY_* code); compare --explain-misses counts them
 // against the reference (mask_rules).
 #define PIP_MASK_EDGE_DOUBT 1u     // the centre map's doubts (PIP_EDGE): a depth edge the receiver's interval reaches
@@ -73,7 +79,7 @@ struct PipPush {  // 64 bytes
   uint pyramidLevels;    // levels of the depth pyramid (area lights)
   uint cornerUnion;      // 1: a corner map's dispatch, which only ORs PIP_PENUMBRA into the flags
   uint appendList;       // 1: also append the flagged pixels to the trace list (no compaction pass)
-  uint explain;          // 1: write why each unflagged pixel was left out (PIP_WHY_*)
+  uint tileTest;         // 1: area lights, a map of one face: the penumbra mask's tile test ran (maskTile)
   // Device addresses (low, high) of what the classification reads most: the shadow map's and the
   // thin mask's texel copies and the edge pyramid. On lavapipe a load through an address skips the
   // bounds check of a storage-buffer load (soft classification at 1024^2: 70 -> 61 ms).
