@@ -12,7 +12,8 @@
 #                 (ray query, acceleration structures), geometry shaders, subgroups, limits, memory
 #                 heaps and what each `auto` setting chose there
 #   tests.txt     the test suite's GPU and reference tests (every method against Embree, with the
-#                 suite's own bounds, validation layer on: any message fails the test)
+#                 suite's own bounds, validation layer on: any message fails the test); with --cpu
+#                 a quarter of each program's (GoogleTest's shard 0 of 4: CI ran them all before)
 #   methods.txt   penumbra compare of every method and tracer against the Embree reference at test
 #                 size, with --validate: sm pcf srt frt (each tracer the device offers), pcss msm
 #                 bitmask ls, ao and indirect on each tracer, 1-spp srt/frt with the temporal denoiser
@@ -178,7 +179,11 @@ fi
 run_tests() {
   local t jobs=$((cpu ? 2 : 4)) rc=0
   test_program() {  # test_program NAME: its output and exit code into $tmp
-    prog "$1" --gtest_brief=1 --gtest_filter="$filter" >"$tmp/$1.txt" 2>&1
+    if [ $cpu = 1 ]; then
+      GTEST_TOTAL_SHARDS=4 GTEST_SHARD_INDEX=0 prog "$1" --gtest_brief=1 --gtest_filter="$filter" >"$tmp/$1.txt" 2>&1
+    else
+      prog "$1" --gtest_brief=1 --gtest_filter="$filter" >"$tmp/$1.txt" 2>&1
+    fi
     echo $? >"$tmp/$1.rc"
   }
   test_program timer_tests  # alone: it times deliberately slow passes

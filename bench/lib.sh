@@ -20,6 +20,28 @@ bench_compare() {
   rm -rf "$out"
 }
 
+# bench_real_views FN: FN LABEL VIEW [compare options...] for each real model of issue 39's suite
+# (bench/fetch_scenes.sh), in its default and close views; none where they are not fetched.
+bench_real_views() {
+  local fn=$1 g=bench/scenes/generated
+  if [ ! -d "$g" ]; then
+    echo "$bench_name: no real models (bash bench/fetch_scenes.sh): the courtyard only"
+    return 0
+  fi
+  local bunny=(--scene "$g/bunny_stage.gltf" --light disk:-2.668,6.326,1.601:0.378,0.236,-0.227)
+  "$fn" "Stanford Bunny" default "${bunny[@]}" --camera 3.431,4.177,4.901:0,0.991,0
+  "$fn" "Stanford Bunny" close "${bunny[@]}" --camera 1.201,2.106,1.715:0,0.991,0
+  local fzk=(--scene "$g/fzk-haus_stage.gltf" --light disk:-2.483,5.372,1.490:0.153,0.100,-0.092)
+  "$fn" "FZK-Haus" default "${fzk[@]}" --camera 3.193,3.371,4.561:0,0.407,0
+  "$fn" "FZK-Haus" close "${fzk[@]}" --camera 1.118,1.444,1.596:0,0.407,0
+  "$fn" "Japanese maple" default --scene "$g/maple.gltf"
+  "$fn" "Japanese maple" close --scene "$g/maple.gltf" --camera 0.778,1.608,1.112:0,0.886,0
+  "$fn" "USS Truman" default --scene "$g/truman.gltf"
+  "$fn" "USS Truman" close --scene "$g/truman.gltf" --camera 0.512,0.678,0.731:0,0.203,0
+  "$fn" "oasago2 (OpenArena)" default --scene "$g/oasago2.gltf"
+  "$fn" "oasago2 (OpenArena)" close --scene "$g/oasago2.gltf" --camera 0.692,0.900,0.988:0,0.258,0
+}
+
 bench_done() {
   echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m)" |
     tee "bench/results/$bench_name.machine.txt"

@@ -11,7 +11,6 @@ TRACER=${TRACER:-bvh}
 name=tiles
 [ "$TRACER" = bvh ] || name=tiles_$TRACER
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh" "$name"
-G=bench/scenes/generated
 runs=$(mktemp -d)
 n=0
 
@@ -50,20 +49,7 @@ if [[ "courtyard" =~ ${ONLY:-.} ]]; then
   one courtyard:64 default 1024x1024 soft --scene builtin:courtyard:64
   one courtyard:64 default 1024x1024 hard --scene builtin:courtyard:64
 fi
-if [ -d "$G" ]; then
-  BUNNY=(--scene "$G/bunny_stage.gltf" --light disk:-2.668,6.326,1.601:0.378,0.236,-0.227)
-  scene "Stanford Bunny" default "${BUNNY[@]}" --camera 3.431,4.177,4.901:0,0.991,0
-  scene "Stanford Bunny" close "${BUNNY[@]}" --camera 1.201,2.106,1.715:0,0.991,0
-  FZK=(--scene "$G/fzk-haus_stage.gltf" --light disk:-2.483,5.372,1.490:0.153,0.100,-0.092)
-  scene "FZK-Haus" default "${FZK[@]}" --camera 3.193,3.371,4.561:0,0.407,0
-  scene "FZK-Haus" close "${FZK[@]}" --camera 1.118,1.444,1.596:0,0.407,0
-  close() { scene "$1" default --scene "$G/$2.gltf"; scene "$1" close --scene "$G/$2.gltf" --camera "$3"; }
-  close "Japanese maple" maple 0.778,1.608,1.112:0,0.886,0
-  close "USS Truman" truman 0.512,0.678,0.731:0,0.203,0
-  close "oasago2 (OpenArena)" oasago2 0.692,0.900,0.988:0,0.258,0
-else
-  echo "tiles: no real models (bash bench/fetch_scenes.sh): the courtyard only"
-fi
+bench_real_views scene
 
 /usr/bin/python3 - "$runs" "bench/results/$name" "$TRACER" <<'PY'
 import csv, glob, json, os, sys

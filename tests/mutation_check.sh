@@ -11,17 +11,19 @@ source scripts/env.sh
 # number # file # text # replacement # test program # gtest filter
 cases=(
   "1#shaders/pip_classify.comp#delta > push.deltaThreshold) flags |= PIP_EDGE#delta > push.deltaThreshold) flags |= 0u#pass_tests#Scenes/SelectiveOnScene.*"
-  "2#shaders/pip_classify.comp#if (!inMask) inMask = blockerWithinReach#if (false) inMask = blockerWithinReach#pass_tests#SoftSelective.MatchesFullRayTracingForSmallMediumLargeLights"
+  "2#shaders/pip_classify.comp#rules |= blockerWithinReach(p, offsetP#rules |= 0u * blockerWithinReach(p, offsetP#pass_tests#SoftSelective.MatchesFullRayTracingForSmallMediumLargeLights"
   "3#shaders/shared/light.h#return (0.5f * r) * vec2(cos(phi), sin(phi));#return (0.5f * r * abs(r)) * vec2(cos(phi), sin(phi));#raytrace_tests#EmbreeTracer.AreaLightSamplesConvergeToTheExactVisibleFraction"
   "4#shaders/shared/indirect.h#float r = sqrt(u.x);#float r = u.x;#pass_tests#Indirect.BounceOffALitWallIsItsFormFactor"
   "5#shaders/shadow_lookup.comp#lit /= float((2 * k + 1) * (2 * k + 1));#lit /= float((2 * k + 1) * (2 * k + 1) + 1);#render_tests#KnownAnswer.PcfTapsMatchTheSquaresAnalyticShadow"
   "6#shaders/shadow_lookup.comp#* lightSize / zB;#* 0.5 * lightSize / zB;#render_tests#KnownAnswer.SoftBaselinesApproachTheSquaresExactPenumbra"
   "7#shaders/bitmask_resolve.comp#float weight = ((c & 1) != 0 ? f.x : 1.0 - f.x)#float weight = ((c & 1) != 0 ? 1.0 - f.x : f.x)#pass_tests#Bitmask.ReceiverMatchesTheReferenceWithTheSameSamples"
-  "8#shaders/triangle_test.glsl#return (t >= tMin && t <= tMax) ? t : -1.0f;#return (t >= tMin && t <= 0.5f * tMax) ? t : -1.0f;#pass_tests#Selective.FullRayTracingIsTheSameOnBvhAndEmbree"
+  "8#shaders/triangle_test.glsl#if (!(t >= tMin && t <= tMax)) return -1.0f;#if (!(t >= tMin && t <= 0.5f * tMax)) return -1.0f;#pass_tests#Selective.FullRayTracingIsTheSameOnBvhAndEmbree"
   "9#gpu/timer.cpp#context_.timestampPeriodNs() * 1e-6#context_.timestampPeriodNs() * 1e-3#render_tests#GpuDevice.PerPassTimesAreReported"
   "10#shaders/compact_scatter.comp#point.rayMax = rayMax[p];#point.rayMax = rayMax[p] * 0.5;#pass_tests#Compact/CompactSizes.MatchesCpuReference/91x91"
   "11#shaders/depth_pyramid.comp#return vec4(centre, g, below + kFitSlack);#return vec4(centre, g, kFitSlack);#pass_tests#PenumbraMask.SurfaceFitsBoundEveryTexelOfTheirTiles"
-  "12#hybrid/traced_method.cpp#(classify ? classifyMs_ : traceAllMs_) = timedTrace(r, tracer, classify, stats);#classifyMs_ = timedTrace(r, tracer, true, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
+  "12#hybrid/traced_method.cpp#(classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, shade, stats);#c.classifyMs = timedTrace(r, tracer, true, shade, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
+  "13#shaders/pip_classify.comp#farthest = max(farthest, axisDepth(m.clip));#farthest = farthest < -1e38 ? axisDepth(m.clip) : min(farthest, axisDepth(m.clip));#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
+  "14#shaders/pip_classify.comp#if (lit && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#if (false && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
 )
 
 wanted=("$@")
