@@ -306,8 +306,14 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
   const bool cornerMaps = shared::isAreaLight(frameData_.light) && settings_.pip.penumbraMaps == 5;
   auto push = raster::PipClassifyPass::pushFor(settings_.pip, frameData_.shadow, thin, bounds_.radius());
   push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
-  push.tileTest =
-      settings_.pip.tileTest && shared::isAreaLight(frameData_.light) && frameData_.shadow.faceCount == 1 ? 1u : 0u;
+  if (shared::isAreaLight(frameData_.light) && frameData_.shadow.faceCount == 1) {
+    bool test = settings_.pip.tileTest == raster::TileTest::On;
+    if (settings_.pip.tileTest == raster::TileTest::Auto) {
+      if (!tileTestTake_) tileTestTake_ = tileTestChoices_[slot_.index].take();  // once per frame
+      test = *tileTestTake_;
+    }
+    push.tileTest = test ? 1u : 0u;
+  }
   maskTilesTested_ = push.tileTest != 0u;
   if (!m.pyramid) {
     m.pyramid =
@@ -347,6 +353,25 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
   return push.appendList != 0u;
 }
 
+void FrameContext::timeTileTest(const std::vector<std::pair<std::string, double>>& passes, FrameStats& stats) {
+  double ms = 0.0;  // per classification of the frame (srt's --srt-choice auto may run two)
+  int runs = 0;
+  for (const auto& [pass, passMs] : passes) {
+    runs += pass == "classify";
+    if (pass == "classify" || pass == "mask_tiles") ms += passMs;
+  }
+  CheaperOf& choice = tileTestChoices_[slot_.index];
+  if (runs > 0) choice.timed(ms / runs);
+  auto last = [&](bool test) {
+    const std::optional<double> t = choice.ms(test);
+    return t ? std::to_string(*t) + " ms" : std::string("not yet timed");
+  };
+  stats.notes.push_back(std::string("the penumbra mask's tile test (--tile-test auto) ") +
+                        (*tileTestTake_ ? "ran" : "did not run") + " in this frame; the classification last took " +
+                        last(true) + " with it (its own pass included), " + last(false) + " without");
+  tileTestTake_.reset();
+}
+
 void FrameContext::recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode) {
   timer_.begin(cmd, "compact");
   compact_.record(cmd, gbuffer_, traceFlags_, rayMax_, frameBuffer_, mode);
@@ -379,6 +404,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   tracedWithLights_ = false;
   maps_ = nullptr;
   mapsPastBudget_ = false;
+  tileTestTake_.reset();
   if (slot.order == 0) {
     lightsTracer_ = nullptr;
     tracedLights_.clear();
@@ -462,7 +488,9 @@ void FrameContext::recordGBuffer(const vk::raii::CommandBuffer& cmd) {
 }
 
 Frame FrameContext::readBack(const Method& method, FrameStats stats) {
-  for (const auto& [pass, ms] : timer_.read()) stats.addPass(pass, ms);
+  const auto passes = timer_.read();
+  for (const auto& [pass, ms] : passes) stats.addPass(pass, ms);
+  if (tileTestTake_) timeTileTest(passes, stats);
   if (stats.thinPass) stats.thinPass->thin = maps().thin->thinTriangles();
   Frame frame;
   frame.width = settings_.width;

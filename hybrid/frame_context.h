@@ -15,10 +15,12 @@
 #include "core/camera.h"
 #include "core/scene.h"
 #include "gpu/timer.h"
+#include "hybrid/cheaper_of.h"
 #include "hybrid/compact_pass.h"
 #include "hybrid/denoise_pass.h"
 #include "hybrid/frame_stats.h"
 #include "hybrid/indirect_pass.h"
+#include "hybrid/render_settings.h"
 #include "hybrid/shade_pass.h"
 #include "raster/bitmask_pass.h"
 #include "raster/corner_maps_pass.h"
@@ -32,7 +34,6 @@
 #include "raytrace/embree_tracer.h"
 #include "raytrace/linespace_tracer.h"
 #include "raytrace/ray_query_tracer.h"
-#include "hybrid/render_settings.h"
 #include "shared/frame.h"
 
 namespace penumbra {
@@ -183,6 +184,8 @@ class FrameContext {
   // (returns whether it did: else the compaction must).
   bool classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList);
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
+  // readBack, --tile-test auto: the classification's time with the frame's take (tileTestTake_).
+  void timeTileTest(const std::vector<std::pair<std::string, double>>& passes, FrameStats& stats);
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
   shared::TraceCount inPlaceCount(const glm::uvec4& rect) const;  // every tile's pixels of rect
@@ -253,7 +256,11 @@ class FrameContext {
   std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, LightMaps> lightMaps_;
   LightMaps* maps_ = nullptr;     // this light's, chosen on first use in its frame (maps())
   bool maskTilesTested_ = false;  // the last classification ran the penumbra mask's tile test (PipPush::tileTest)
-  bool mapsPastBudget_ = false;   // its own would not fit settings().lightMapsMiB
+  // --tile-test auto, by light index: with or without the tile test, by the classification's time
+  // with each; the take of this light's frame (classify), timed in readBack.
+  std::map<std::uint32_t, CheaperOf> tileTestChoices_;
+  std::optional<bool> tileTestTake_;
+  bool mapsPastBudget_ = false;  // its own would not fit settings().lightMapsMiB
   LightMaps& maps();
   LightMaps& chooseMaps();
   // The moving meshes' boxes as of the last sceneMoved, and what the last moves swept (each mesh's

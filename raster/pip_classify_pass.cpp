@@ -40,8 +40,10 @@ const Options<PipSettings>& pipOptions() {
            false);
     o.choice("--tile-test", "pip/tile_test", &PipSettings::tileTest,
              "Area lights: search the penumbra mask once for each 16x16 tile of pixels first; where that finds no "
-             "blocker, none of the tile's pixels searches (off: every pixel searches)",
-             {{"on", true}, {"off", false}});
+             "blocker, none of the tile's pixels searches (off: every pixel searches; the same mask). auto: per light, "
+             "with or without it by its own timings of both (the light's first frame warms with it, the next two "
+             "time each, every 32nd the other again)",
+             {{"auto", TileTest::Auto}, {"on", TileTest::On}, {"off", TileTest::Off}});
     o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,
              "Bound srt's hard-shadow rays by the shadow map's blocker depths", {{"on", true}, {"off", false}});
     return o;

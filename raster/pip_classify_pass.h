@@ -11,6 +11,11 @@
 
 namespace penumbra::raster {
 
+// Area lights, maps of one face: whether the penumbra mask's search runs once per tile first
+// (PipPush::tileTest). Auto: with or without it, whichever its own timings say is cheaper
+// (FrameContext::classify).
+enum class TileTest { Off, On, Auto };
+
 struct PipSettings {
   float deltaFraction = 0.002f;   // depth-edge threshold as a fraction of the light's depth range
   float marginTexels = 1.0f;      // receiver depth interval widened by this many texel sizes
@@ -19,8 +24,8 @@ struct PipSettings {
   std::uint32_t penumbraMaps = 1; // area lights: 1 = the centre's map, 5 = also the four corners' maps
   bool appendList = true;         // the classification writes the trace list itself (else the compaction
                                   // pass makes it from the flags, as it must when corner maps add flags)
-  bool tileTest = true;           // area lights: the penumbra mask's search once per tile first (PipPush::tileTest)
-  bool explain = false;           // write why each unflagged pixel was left out (PIP_WHY_*; area lights: PIP_MASK_*)
+  TileTest tileTest = TileTest::Auto;  // area lights: the penumbra mask's tile test first (TileTest)
+  bool explain = false;  // write why each unflagged pixel was left out (PIP_WHY_*; area lights: PIP_MASK_*)
 };
 
 // The command line's options of the classification (--pip-delta, --ray-intervals, ...).

@@ -18,6 +18,7 @@
 #include "core/metrics.h"
 #include "core/miss_explainer.h"
 #include "core/scene_loader.h"
+#include "hybrid/cheaper_of.h"
 #include "raster/depth_pyramid_pass.h"
 #include "raster/scene_geometry.h"
 #include "raster/shadow_map_pass.h"
@@ -264,7 +265,7 @@ TEST(PenumbraMask, TileTestLeavesEveryPixelsMaskAsItWas) {
     settings.pip.explain = c.explain;
     Frame with, without;
     for (const bool test : {true, false}) {
-      settings.pip.tileTest = test;
+      settings.pip.tileTest = test ? raster::TileTest::On : raster::TileTest::Off;
       SceneRun run(c.scene, settings);
       if (c.camera) run.camera = *c.camera;
       run.light.type = c.type;
@@ -287,6 +288,60 @@ TEST(PenumbraMask, TileTestLeavesEveryPixelsMaskAsItWas) {
     if (c.explain) EXPECT_EQ(with.pipWhy, without.pipWhy);
   }
   EXPECT_GT(clearOverAll, 0u);
+  expectValidationSilent();
+}
+
+// --tile-test auto (CheaperOf): the light's first frame warms with the test, the next two time the
+// classification without and with it, then each frame takes the cheaper by their last times, and
+// every 32nd the other, which times it again. Taking the dearer one, or never timing the other
+// again, fails.
+TEST(PenumbraMask, TileTestAutoTakesTheCheaperAndTimesTheOtherAgain) {
+  CheaperOf choice;
+  EXPECT_TRUE(choice.take());
+  choice.timed(1000.0);  // the warming take's time is dropped
+  EXPECT_FALSE(choice.ms(true));
+  EXPECT_FALSE(choice.take());
+  choice.timed(50.0);
+  EXPECT_TRUE(choice.take());
+  choice.timed(40.0);
+  std::vector<std::uint64_t> others;
+  for (std::uint64_t take = 4; take <= 100; ++take) {
+    const bool way = choice.take();
+    if (!way) others.push_back(take);
+    choice.timed(way ? 40.0 : 50.0);
+  }
+  EXPECT_EQ(others, (std::vector<std::uint64_t>{32, 64, 96}));
+  // Content changes: the way without the test turns cheaper when it is timed again.
+  std::uint64_t take = 101;
+  for (; take % CheaperOf::kRemeasure != 0; ++take) EXPECT_TRUE(choice.take());
+  EXPECT_FALSE(choice.take());
+  choice.timed(30.0);
+  EXPECT_FALSE(choice.take());
+  EXPECT_EQ(choice.ms(false), 30.0);
+  EXPECT_EQ(choice.ms(true), 40.0);
+}
+
+// The same in the renderer: its frames take the test as CheaperOf says (with it, without, with),
+// the mask the same in each, and say so in their notes.
+TEST(PenumbraMask, TileTestAutoKeepsTheMaskInEveryFrame) {
+  RenderSettings settings = maskSettings(256);
+  settings.pip.tileTest = raster::TileTest::Auto;
+  SceneRun run("builtin:courtyard", settings);
+  run.light.size = 0.1f * run.scene.bounds().radius();
+  std::vector<Frame> frames;
+  for (int i = 0; i < 4; ++i) frames.push_back(run.render("srt"));
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const bool tested = frames[i].stats.counts.count("mask_tiles") != 0;
+    if (i < 3) {
+      EXPECT_EQ(tested, i != 1);
+    }
+    EXPECT_EQ(frames[i].pip, frames[0].pip);
+    const auto& notes = frames[i].stats.notes;
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(),
+                            [](const std::string& n) { return n.find("--tile-test auto") != std::string::npos; }));
+  }
+  EXPECT_GT(std::count_if(frames[0].pip.begin(), frames[0].pip.end(), [](std::uint32_t f) { return f != 0u; }), 0);
   expectValidationSilent();
 }
 
