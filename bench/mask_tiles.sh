@@ -80,7 +80,7 @@ with open(sys.argv[2] + ".md", "w") as f:
     f.write("# The penumbra mask's tile test (bench/mask_tiles.sh)\n\n")
     f.write("Device: %s, %s. Soft srt (16 spp, light 0.1, `--srt-choice off`, `--tracer bvh`) with `--tile-test off` "
             "and `on` in alternating `render` runs: medians over the rounds of each run's median frame (warm-up 1); "
-            "classify and mask_tiles (the test's own pass) likewise. tiles_clear: of the 16x16 tiles with receivers, "
+            "classify and mask_tiles (the test's own pass) likewise. tiles_clear: of the 8x8 tiles with receivers, "
             "those the test cleared (no pixel searched). sm, frt and srt's wrong pixels (against the Embree reference "
             "with the same samples) from one `compare` (the test on); bound: the sm frame plus the PIP share of frt's "
             "trace. mask_same: every run's PIP fraction equal (the test must not change the mask).\n\n"

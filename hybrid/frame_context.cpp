@@ -16,10 +16,10 @@ namespace penumbra {
 namespace {
 
 vk::DeviceSize pixels(const RenderSettings& s) { return vk::DeviceSize(s.width) * s.height; }
-// The classification's tiles (PIP_GROUP_SIZE^2 pixels each), the penumbra mask's tile test's unit.
+// The penumbra mask's tile test's tiles (PIP_MASK_TILE_SIZE^2 pixels each).
 vk::DeviceSize maskTiles(const RenderSettings& s) {
-  return vk::DeviceSize((s.width + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE) *
-         ((s.height + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE);
+  return vk::DeviceSize((s.width + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE) *
+         ((s.height + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE);
 }
 
 // Settings with the shadow maps' read path resolved for this device, so every map made from them

@@ -39,7 +39,7 @@ const Options<PipSettings>& pipOptions() {
     o.flag("--no-thin", "pip/thin_pass", &PipSettings::thinPass, "Turn off the thin-triangle conservative pass of srt",
            false);
     o.choice("--tile-test", "pip/tile_test", &PipSettings::tileTest,
-             "Area lights: search the penumbra mask once for each 16x16 tile of pixels first; where that finds no "
+             "Area lights: search the penumbra mask once for each 8x8 tile of pixels first; where that finds no "
              "blocker, none of the tile's pixels searches (off: every pixel searches; the same mask). auto: per light, "
              "with or without it by its own timings of both (the light's first frame warms with it, the next two "
              "time each, every 32nd the other again)",
@@ -75,8 +75,8 @@ void PipClassifyPass::recordTileTest(const vk::raii::CommandBuffer& cmd, const G
   const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), explain, true);
   pipeline.bind(cmd, descriptors);
   pipeline.pushConstants(cmd, push);
-  const std::uint32_t tilesX = (gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE;
-  const std::uint32_t tilesY = (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE;
+  const std::uint32_t tilesX = (gbuffer.width() + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE;
+  const std::uint32_t tilesY = (gbuffer.height() + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE;
   cmd.dispatch((tilesX + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (tilesY + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite,
                      vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageRead);

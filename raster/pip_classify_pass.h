@@ -42,7 +42,7 @@ struct PipBuffers {
   // nonzero, like smVisibility and rayMax.
   const gpu::Buffer& count;
   const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written where explained (zeroed first)
-  // uint per tile of PIP_GROUP_SIZE^2 pixels: PIP_TILE_*, written where PipPush::tileTest.
+  // uint per tile of PIP_MASK_TILE_SIZE^2 pixels: PIP_TILE_*, written where PipPush::tileTest.
   const gpu::Buffer& maskTiles;
 };
 
@@ -54,7 +54,7 @@ class PipClassifyPass {
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
               const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
               const PipBuffers& out, shared::PipPush push, bool explain) const;
-  // The penumbra mask's tile test (maskTile in the shader; one invocation per PIP_GROUP_SIZE^2
+  // The penumbra mask's tile test (maskTile in the shader; one invocation per PIP_MASK_TILE_SIZE^2
   // tile of pixels): out.maskTiles.
   void recordTileTest(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
                       const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,

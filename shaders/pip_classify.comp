@@ -65,7 +65,7 @@ layout(constant_id = 1) const bool kExplain = false;
 // The dispatch before the pixels' where PipPush::tileTest: one invocation per tile, maskTile.
 layout(constant_id = 2) const bool kTilePass = false;
 layout(std430, binding = PIP_BINDING_MASK_TILES) buffer MaskTiles { uint maskTiles[]; };
-uint tileIndex(uvec2 tile) { return tile.y * ((frame.width + PIP_GROUP_SIZE - 1u) / PIP_GROUP_SIZE) + tile.x; }
+uint tileIndex(uvec2 tile) { return tile.y * ((frame.width + PIP_MASK_TILE_SIZE - 1u) / PIP_MASK_TILE_SIZE) + tile.x; }
 #include "point_list.glsl"
 #include "light_texels.glsl"
 #include "receiver_plane.glsl"
@@ -441,7 +441,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, bool tileClear, ou
   return write(index, vis, flags, maxDistance, rayEnd);
 }
 
-// The penumbra mask's tile test: one search for the receivers of a tile of PIP_GROUP_SIZE^2
+// The penumbra mask's tile test: one search for the receivers of a tile of PIP_MASK_TILE_SIZE^2
 // pixels together, in a map of one face; returns PIP_TILE_*. Each receiver's windows lie within
 // the tile's: per corner the bounds of their alphas and betas (SplatCone), of their texels and of
 // their depths (the farthest bounds the blockers that count); the surface channel's plane is the
@@ -451,8 +451,13 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, bool tileClear, ou
 // the map with the light above their tangent and face planes (all of them where explained),
 // whatever doubts already put them in the mask.
 // One invocation per tile, which reads the tile's pixels in turn: on lavapipe (courtyard, 1024^2,
-// light 0.1) this dispatch takes ~19 ms, and a workgroup per tile with an invocation per pixel,
-// meeting in shared memory over barriers, ~100 ms. On a GPU the latter may be the faster.
+// light 0.1, tiles of 16x16) this dispatch took ~19 ms, and a workgroup per tile with an invocation
+// per pixel, meeting in shared memory over barriers, ~100 ms. On a GPU the latter may be the faster.
+// Tiles of 8x8 clear more pixels than of 16x16 (courtyard 48% -> 58% of the tiles' pixels) for ~2 ms
+// more: classify and the test ~6-8 ms less at 1024^2 on the courtyard, FZK-Haus and USS Truman
+// close; 4x4, ~3 ms more than 8x8. Clearing each channel on its own saved nothing (the bunny seen
+// close clears its edges in half its tiles, the surface in 15%): where the tile's edge search finds
+// nothing, a pixel's is cheap.
 uint maskTile(uvec2 tile) {
   GpuLight light = frame.light;
   float halfExtent = light.type == LIGHT_RECT ? light.size * 0.70710678 : light.size * 0.5;
@@ -470,8 +475,8 @@ uint maskTile(uvec2 tile) {
   MapPlane highest = MapPlane(-3.0e38, 3.0e38, vec2(0.0), vec2(3.0e38), vec2(-3.0e38), 0.0, planeDepthOfRaw());
   float farthest = -3.0e38;
   bool any = false, lit = false;
-  for (uint k = 0u; k < PIP_GROUP_SIZE * PIP_GROUP_SIZE; ++k) {
-    ivec2 pix = ivec2(tile * PIP_GROUP_SIZE + uvec2(k % PIP_GROUP_SIZE, k / PIP_GROUP_SIZE));
+  for (uint k = 0u; k < PIP_MASK_TILE_SIZE * PIP_MASK_TILE_SIZE; ++k) {
+    ivec2 pix = ivec2(tile * PIP_MASK_TILE_SIZE + uvec2(k % PIP_MASK_TILE_SIZE, k / PIP_MASK_TILE_SIZE));
     if (pix.x >= int(frame.width) || pix.y >= int(frame.height)) continue;
     if (!inLightRect(frame.lightRectMin, frame.lightRectMax, uint(pix.x), uint(pix.y))) continue;
     vec4 position = imageLoad(gPosition, pix);
@@ -517,7 +522,7 @@ uint maskTile(uvec2 tile) {
 void main() {
   if (kTilePass) {
     uvec2 tile = gl_GlobalInvocationID.xy;
-    if (all(lessThan(tile * PIP_GROUP_SIZE, uvec2(frame.width, frame.height)))) maskTiles[tileIndex(tile)] = maskTile(tile);
+    if (all(lessThan(tile * PIP_MASK_TILE_SIZE, uvec2(frame.width, frame.height)))) maskTiles[tileIndex(tile)] = maskTile(tile);
     return;
   }
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
@@ -531,7 +536,7 @@ void main() {
   uint flags = 0u;
   if (position.w != 0.0) {
     n = imageLoad(gNormal, pix).xyz;
-    bool tileClear = push.tileTest != 0u && maskTiles[tileIndex(gl_WorkGroupID.xy)] == PIP_TILE_CLEAR;
+    bool tileClear = push.tileTest != 0u && maskTiles[tileIndex(uvec2(pix) / PIP_MASK_TILE_SIZE)] == PIP_TILE_CLEAR;
     // The face normal (layerOver's plane) is loaded here with the others: under layerOver's
     // divergent condition lavapipe paid ~1.3 ms more for the same load at 1024^2.
     flags = classify(index, pix, position.xyz, n, faceNormalAt(pix), tileClear, rayEnd);

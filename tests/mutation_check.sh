@@ -24,6 +24,7 @@ cases=(
   "12#hybrid/traced_method.cpp#(classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, shade, stats);#c.classifyMs = timedTrace(r, tracer, true, shade, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
   "13#shaders/pip_classify.comp#farthest = max(farthest, axisDepth(m.clip));#farthest = farthest < -1e38 ? axisDepth(m.clip) : min(farthest, axisDepth(m.clip));#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
   "14#shaders/pip_classify.comp#if (lit && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#if (false && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
+  "15#hybrid/cheaper_of.h#last_ = *ms_[1] <= *ms_[0];#last_ = *ms_[1] >= *ms_[0];#pass_tests#PenumbraMask.TileTestAutoTakesTheCheaperAndTimesTheOtherAgain"
 )
 
 wanted=("$@")

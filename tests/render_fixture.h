@@ -2,6 +2,7 @@
 // that renders a scene's default view with a method. Validation messages fail the test that
 // caused them.
 #pragma once
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
@@ -25,6 +26,13 @@ inline void expectValidationSilent() {
   const auto messages = context.validationMessages();
   EXPECT_TRUE(messages.empty()) << messages.size() << " validation message(s), first: " << messages.front();
   context.clearValidationMessages();
+}
+
+// Whether one of the frame's notes says `text`.
+inline bool hasNote(const Frame& frame, const std::string& text) {
+  const auto& notes = frame.stats.notes;
+  return std::any_of(notes.begin(), notes.end(),
+                     [&](const std::string& n) { return n.find(text) != std::string::npos; });
 }
 
 struct SceneRun {

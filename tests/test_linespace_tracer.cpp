@@ -323,9 +323,7 @@ TEST(LineSpaceTracer, ExactShadowsPassThroughCutouts) {
   const ErrorMetrics exact = compareVisibility(exactRun.render("ls").visibility, r.visibility, r.covered, kWrongThresholdHard);
   const Frame binaryFrame = binaryRun.render("ls");
   const ErrorMetrics binary = compareVisibility(binaryFrame.visibility, r.visibility, r.covered, kWrongThresholdHard);
-  const auto& notes = binaryFrame.stats.notes;
-  EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("cut-outs solid") != std::string::npos; }))
-      << "the frame says so";
+  EXPECT_TRUE(test::hasNote(binaryFrame, "cut-outs solid")) << "the frame says so";
   std::printf("checker, ls (5,3) hard vs ref: exact wrong %.4f%%, binary wrong %.4f%%\n", 100.0 * exact.wrongPixelFraction,
               100.0 * binary.wrongPixelFraction);
   EXPECT_EQ(exact.wrongPixelFraction, 0.0);

@@ -230,7 +230,7 @@ TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
 }
 
 // The mask's tile test (--tile-test, maskTile in pip_classify.comp) searches once for the
-// receivers of a 16x16 tile of pixels together, in windows that hold each of theirs: the bounds of
+// receivers of an 8x8 tile of pixels together, in windows that hold each of theirs: the bounds of
 // their cones, their farthest depth, the highest of their planes. Where it finds no blocker, no
 // pixel of the tile searches. It must leave every pixel's mask as it was, explained too (every
 // rule's bits), and it must clear tiles, or it is only a cost. The cases: edge splats of boxes,
@@ -337,9 +337,7 @@ TEST(PenumbraMask, TileTestAutoKeepsTheMaskInEveryFrame) {
       EXPECT_EQ(tested, i != 1);
     }
     EXPECT_EQ(frames[i].pip, frames[0].pip);
-    const auto& notes = frames[i].stats.notes;
-    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(),
-                            [](const std::string& n) { return n.find("--tile-test auto") != std::string::npos; }));
+    EXPECT_TRUE(hasNote(frames[i], "--tile-test auto"));
   }
   EXPECT_GT(std::count_if(frames[0].pip.begin(), frames[0].pip.end(), [](std::uint32_t f) { return f != 0u; }), 0);
   expectValidationSilent();

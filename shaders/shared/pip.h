@@ -5,6 +5,7 @@
 PN_BEGIN
 
 #define PIP_GROUP_SIZE 16  // 16x16 pixels per workgroup (8x8: classify 2 ms slower at 1024^2 on lavapipe; the lookup and shade passes, with less work per pixel, stay faster at 8x8)
+#define PIP_MASK_TILE_SIZE 8      // the penumbra mask's tile test: pixels per side of its tiles (PipPush::tileTest)
 #define PIP_LAYER_TOLERANCE 0.05  // layerOver: a layer must stand this fraction of the margin off the receiver's plane
 #define PIP_MAX_TILE_VISITS 256   // penumbra mask: edge-pyramid tiles one pixel's search may read before it gives up (in the mask)
 
@@ -21,7 +22,7 @@ PN_BEGIN
 #define PIP_BINDING_COUNT 13          // TraceCount of the list PipPush::appendList fills
 #define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_* (area lights: PIP_MASK_* bits where flagged)
 #define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
-#define PIP_BINDING_MASK_TILES 16     // uint per PIP_GROUP_SIZE^2 tile of pixels: PIP_TILE_* (PipPush::tileTest)
+#define PIP_BINDING_MASK_TILES 16     // uint per PIP_MASK_TILE_SIZE^2 tile of pixels: PIP_TILE_* (PipPush::tileTest)
 
 // The penumbra mask's tile test (PipPush::tileTest): what it found for a tile's pixels.
 #define PIP_TILE_NONE 0u    // no pixel of the tile searches
