@@ -39,7 +39,7 @@ view courtyard default --scene builtin:courtyard
 bench_real_views view
 
 /usr/bin/python3 - "$runs" bench/results/mask_tiles <<'PY'
-import csv, glob, json, os, statistics, sys
+import glob, json, os, statistics, sys
 rows = []
 for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
     label, view, res = open(os.path.join(d, "case")).read().split("\n")[:3]
@@ -71,24 +71,15 @@ for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
     })
 if not rows:
     sys.exit("mask_tiles: no views (ONLY=%s?)" % os.environ.get("ONLY", ""))
-keys = list(rows[0].keys())
-with open(sys.argv[2] + ".csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=keys)
-    w.writeheader()
-    w.writerows(rows)
-with open(sys.argv[2] + ".md", "w") as f:
-    f.write("# The penumbra mask's tile test (bench/mask_tiles.sh)\n\n")
-    f.write("Device: %s, %s. Soft srt (16 spp, light 0.1, `--srt-choice off`, `--tracer bvh`) with `--tile-test off` "
+sys.path.insert(0, "bench/report")
+import table  # noqa: E402
+table.write(sys.argv[2], "The penumbra mask's tile test (bench/mask_tiles.sh)",
+            ("Device: %s, %s. " % (machine.get("device", ""), machine.get("driver", ""))) + "Soft srt (16 spp, light 0.1, `--srt-choice off`, `--tracer bvh`) with `--tile-test off` "
             "and `on` in alternating `render` runs: medians over the rounds of each run's median frame (warm-up 1); "
             "classify and mask_tiles (the test's own pass) likewise. tiles_clear: of the 8x8 tiles with receivers, "
             "those the test cleared (no pixel searched). sm, frt and srt's wrong pixels (against the Embree reference "
             "with the same samples) from one `compare` (the test on); bound: the sm frame plus the PIP share of frt's "
-            "trace. mask_same: every run's PIP fraction equal (the test must not change the mask).\n\n"
-            % (machine.get("device", ""), machine.get("driver", "")))
-    f.write("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n")
-    for r in rows:
-        f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
-print("wrote %s.md (%d rows)" % (sys.argv[2], len(rows)))
+            "trace. mask_same: every run's PIP fraction equal (the test must not change the mask).", rows)
 PY
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee bench/results/mask_tiles.machine.txt
 rm -rf "$runs"

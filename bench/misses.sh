@@ -69,7 +69,7 @@ close "oasago2 (OpenArena)" oasago2 0.692,0.900,0.988:0,0.258,0
 close "ctf_inyard (OpenArena)" ctf_inyard 0.556,0.918,0.794:0,0.402,0
 
 python3 - "$runs" "${RESULTS:-bench/results/misses}" <<'PY'
-import csv, glob, json, os, sys
+import glob, json, os, sys
 rows = []
 for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
     build, label, view, kind, res = open(os.path.join(d, "case")).read().split("\n")[:5]
@@ -85,20 +85,12 @@ for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
         "pip_miss_pct": pct(srt["pip_miss_fraction"]), "penumbra_miss_pct": pct(srt["penumbra_miss_fraction"]),
         "miss_causes": " ".join("%s=%d" % (k, v) for k, v in sorted(causes.items()) if v),
     })
-with open(sys.argv[2] + ".csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-    w.writeheader()
-    w.writerows(rows)
-with open(sys.argv[2] + ".md", "w") as f:
-    f.write("# Where srt misses (bench/misses.sh)\n\n")
-    f.write("Wrong pixels: |d| > 0.5 (hard), > 0.05 (soft) against the Embree reference with the same samples, over covered pixels. "
-            "pip_miss: of the pixels sm gets wrong, those srt did not trace; penumbra_miss: of the reference's penumbra pixels, "
-            "those not traced. Causes: compare --explain-misses (hard shadows).\n\n")
-    keys = list(rows[0].keys())
-    f.write("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n")
-    for r in rows:
-        f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
-print("wrote " + sys.argv[2] + ".{csv,md}")
+sys.path.insert(0, "bench/report")
+import table  # noqa: E402
+table.write(sys.argv[2], "Where srt misses (bench/misses.sh)",
+            "Wrong pixels: |d| > 0.5 (hard), > 0.05 (soft) against the Embree reference with the same samples, over "
+            "covered pixels. pip_miss: of the pixels sm gets wrong, those srt did not trace; penumbra_miss: of the "
+            "reference's penumbra pixels, those not traced. Causes: compare --explain-misses (hard shadows).", rows)
 PY
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m); $(vulkaninfo --summary 2>/dev/null | grep -m1 driverInfo | sed 's/^ *//')" \
   | tee "${RESULTS:-bench/results/misses}.machine.txt"

@@ -52,7 +52,7 @@ fi
 bench_real_views scene
 
 /usr/bin/python3 - "$runs" "bench/results/$name" "$TRACER" <<'PY'
-import csv, glob, json, os, sys
+import glob, json, os, sys
 cases = {}
 for d in sorted(glob.glob(os.path.join(sys.argv[1], "*"))):
     label, view, kind, res, choice = open(os.path.join(d, "case")).read().split("\n")[:5]
@@ -76,23 +76,15 @@ for (label, view, kind, res), by in cases.items():
         "pip_pct": pct(srt["pip_fraction"]), "srt_off_wrong_pct": pct(srt["error"]["wrong_pixel_fraction"]),
         "srt_auto_wrong_pct": pct(srta["error"]["wrong_pixel_fraction"]), "pip_miss_pct": pct(srt["pip_miss_fraction"]),
     })
-keys = list(rows[0].keys())
-with open(sys.argv[2] + ".csv", "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=keys)
-    w.writeheader()
-    w.writerows(rows)
-with open(sys.argv[2] + ".md", "w") as f:
-    f.write("# Does the hybrid pay? srt's path choice (bench/tiles.sh, tracer %s)\n\n" % sys.argv[3])
-    f.write("Device: %s. Frame totals in ms, warm-up 1, median of the repeats, each configuration's methods in one "
+sys.path.insert(0, "bench/report")
+import table  # noqa: E402
+table.write(sys.argv[2], "Does the hybrid pay? srt's path choice (bench/tiles.sh, tracer %s)" % sys.argv[3],
+            ("Device: %s. " % machine) + "Frame totals in ms, warm-up 1, median of the repeats, each configuration's methods in one "
             "`compare` run (srt auto in a second one). srt off: the paper's path every frame; srt auto: "
-            "`--srt-choice auto` (its path in the measured frames: classify or trace_all). bound: srt's model bound, "
+            "`--srt-choice auto` (its path in the measured frames: classify or trace_all); both with the penumbra mask's default `--tile-test auto`. bound: srt's model bound, "
             "the sm frame plus the PIP share of frt's trace. Wrong: |d| > 0.5 hard, > 0.05 soft against the Embree "
             "reference with the same samples; pip_miss: of sm's wrong pixels, those srt off left untraced. "
-            "temporal: 1 spp with `--denoise temporal` (wrong against the 1-spp reference).\n\n" % machine)
-    f.write("| " + " | ".join(keys) + " |\n|" + "---|" * len(keys) + "\n")
-    for r in rows:
-        f.write("| " + " | ".join(r[k] for k in keys) + " |\n")
-print("wrote %s.md (%d rows)" % (sys.argv[2], len(rows)))
+            "temporal: 1 spp with `--denoise temporal` (wrong against the 1-spp reference).", rows)
 PY
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(uname -m)" | tee "bench/results/$name.machine.txt"
 rm -rf "$runs"
