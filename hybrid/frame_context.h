@@ -184,8 +184,10 @@ class FrameContext {
   // (returns whether it did: else the compaction must).
   bool classify(const vk::raii::CommandBuffer& cmd, FrameStats& stats, bool appendList);
   void recordCompact(const vk::raii::CommandBuffer& cmd, std::uint32_t mode);
-  // readBack, --tile-test auto: the classification's time with the frame's take (tileTestTake_).
-  void timeTileTest(const std::vector<std::pair<std::string, double>>& passes, FrameStats& stats);
+  // hybrid/frame_classify.cpp, with classify: whether this frame runs the penumbra mask's tile test;
+  // and in readBack, with the frame's passes, --tile-test auto's time of its take and the test's counts.
+  bool takesTileTest();
+  void reportTileTest(const std::vector<std::pair<std::string, double>>& passes, bool classified, FrameStats& stats);
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
   shared::TraceCount inPlaceCount(const glm::uvec4& rect) const;  // every tile's pixels of rect
