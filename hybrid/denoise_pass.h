@@ -4,8 +4,9 @@
 // (shaders/denoise_accumulate.comp); then a spatial filter inside the penumbra mask gathers about
 // targetSamples samples per pixel, within the penumbra's width from the blocker distances the trace
 // wrote, with depth and normal edge-stopping (shaders/denoise_spatial.comp). --denoise spatial is
-// the filter alone. Pixels outside the mask stay exact. One pass object per method, so that each
-// method's history is its own.
+// the filter alone. Pixels outside the mask stay exact; so do pixels whose taps reach only 8x8 tiles
+// of one value (the accumulation writes each tile's range): the filter leaves them as they are. One
+// pass object per method, so that each method's history is its own.
 #pragma once
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -37,6 +38,9 @@ struct DenoiseSettings {
   // jumps 3 degrees a frame stops).
   float motionFraction = 0.7f;
   bool followShadows = true;  // false: the history stays at its surface point (tests show what following buys)
+  // false: the spatial filter runs on every noisy pixel, also where the values all around agree
+  // (tests: skipping those changes no pixel by more than DENOISE_UNIFORM)
+  bool skipAgreeing = true;
   // Shadows are followed only where the nearby blocker distances span at most this fraction of
   // their mean: on the maple's foliage one shift for blockers at many distances moved the history
   // wrongly (moving frames' rmse at light 0.1: 0.060 not following, 0.081 following everywhere,
@@ -77,6 +81,7 @@ class DenoisePass {
   gpu::ComputePipeline accumulate_, spatial_;
   gpu::Buffer accumulated_;
   gpu::Buffer history_[2];
+  gpu::Buffer ranges_;         // per DENOISE_GROUP_SIZE^2 tile: its accumulated values' range (float bits)
   std::uint32_t current_ = 0;  // history_[current_] holds the last frame's
   bool historyValid_ = false;
   glm::mat4 previousViewProj_{1.0f};

@@ -10,8 +10,11 @@
 // deviations, so that they leave no trail: where the neighbourhood agrees (outside penumbrae) the
 // history must agree too, up to what so few samples can tell. A still scene is not clipped: any clip
 // of few-sample neighbourhoods biases penumbrae (foliage at 32 frames: rmse 0.026 clipped, 0.012 not).
-// Pixels outside the mask are exact: their value, with a full count, is their history.
+// Pixels outside the mask are exact: their value, with a full count, is their history. Each
+// workgroup also writes the range of its covered pixels' results (the spatial filter's tiles).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 #include "shared/denoise.h"
 #include "shared/frame.h"
 layout(local_size_x = DENOISE_GROUP_SIZE, local_size_y = DENOISE_GROUP_SIZE) in;
@@ -24,6 +27,7 @@ layout(std430, binding = DENOISE_ACCUMULATE_BINDING_HISTORY_IN) readonly buffer 
 layout(std430, binding = DENOISE_ACCUMULATE_BINDING_HISTORY_OUT) writeonly buffer HistoryOut { DenoiseHistory historyOut[]; };
 layout(std430, binding = DENOISE_ACCUMULATE_BINDING_ACCUMULATED) writeonly buffer Accumulated { vec2 accumulated[]; };  // value, frames
 layout(std430, binding = DENOISE_ACCUMULATE_BINDING_BLOCKERS) readonly buffer Blockers { float blockers[]; };
+layout(std430, binding = DENOISE_ACCUMULATE_BINDING_RANGES) buffer Ranges { uvec2 ranges[]; };  // float bits: ~lowest, highest
 layout(push_constant) uniform Push { DenoiseAccumulatePush push; };
 #include "denoise_blockers.glsl"
 
@@ -55,17 +59,15 @@ vec3 shadowBefore(vec3 p, vec3 n, ivec2 pix) {
   return p + shift - l * (dot(n, shift) / nl);
 }
 
-void main() {
-  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.width, frame.height);
-  if (pix.x >= size.x || pix.y >= size.y) return;
+// Accumulates pixel pix (in the image); returns its result, or -1 where it is not covered.
+float accumulate(ivec2 pix, ivec2 size) {
   uint index = uint(pix.y) * frame.width + uint(pix.x);
   vec4 position = imageLoad(gPosition, pix);
   float current = visibility[index];
   if (position.w == 0.0) {
     historyOut[index] = DenoiseHistory(vec3(0.0), 0u);
     accumulated[index] = vec2(current, 0.0);
-    return;
+    return -1.0;
   }
   vec3 p = position.xyz;
   float result = current, frames = 1.0;
@@ -80,9 +82,15 @@ void main() {
     vec2 at = (clip.xy / max(clip.w, 1e-30) * 0.5 + 0.5) * vec2(size) - 0.5;
     ivec2 q0 = ivec2(floor(at));
     vec2 f = at - vec2(q0);
+    int taps = 4;
+    if (push.stillCamera != 0u && hp == p) {  // its own pixel's (rounding would spread it over 4)
+      q0 = pix;
+      f = vec2(0.0);
+      taps = 1;
+    }
     float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
     float weight = 0.0, value = 0.0, count = 1e9;
-    for (int k = 0; k < 4 && clip.w > 0.0; ++k) {
+    for (int k = 0; k < taps && clip.w > 0.0; ++k) {
       ivec2 q = q0 + ivec2(k & 1, k >> 1);
       float w = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
       if (w <= 0.0 || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
@@ -121,4 +129,21 @@ void main() {
   }
   historyOut[index] = DenoiseHistory(p, packHistory(result, frames));
   accumulated[index] = vec2(result, frames);
+  return result;
+}
+
+void main() {
+  ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(frame.width, frame.height);
+  float result = all(lessThan(pix, size)) ? accumulate(pix, size) : -1.0;
+  // The tile's range: its subgroups' reduced, then one atomic each into the range (cleared to 0).
+  // Non-negative floats order as their bits do.
+  uint bits = floatBitsToUint(result) & 0x7fffffffu;  // -0 as 0
+  uint highest = subgroupMax(result >= 0.0 ? bits : 0u);
+  uint lowestInverted = subgroupMax(result >= 0.0 ? ~bits : 0u);
+  if (subgroupElect()) {
+    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    atomicMax(ranges[tile].x, lowestInverted);
+    atomicMax(ranges[tile].y, highest);
+  }
 }

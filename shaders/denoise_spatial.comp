@@ -6,7 +6,10 @@
 // blocker distances the trace found: light size * blocker distance / (receiver-to-light distance -
 // blocker distance), in pixels at the receiver's depth - so contacts and hard edges stay sharp.
 // Taps are weighted down off the receiver's plane (depth edges) and across creases (normals), so
-// shadows do not bleed over silhouettes. Pixels outside the mask are copied: they are exact.
+// shadows do not bleed over silhouettes. Pixels outside the mask are copied: they are exact. So
+// are those whose taps all lie in tiles whose values span at most DENOISE_UNIFORM (the
+// accumulation's ranges): a weighted mean of equal values is that value. Where every pixel is
+// noisy (frt, srt tracing all) that is most of a frame: wholly lit or in umbra.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
 #include "shared/frame.h"
@@ -18,27 +21,52 @@ layout(std430, binding = DENOISE_SPATIAL_BINDING_ACCUMULATED) readonly buffer Ac
 layout(std430, binding = DENOISE_SPATIAL_BINDING_FLAGS) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = DENOISE_SPATIAL_BINDING_BLOCKERS) readonly buffer Blockers { float blockers[]; };
 layout(std430, binding = DENOISE_SPATIAL_BINDING_VISIBILITY) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = DENOISE_SPATIAL_BINDING_RANGES) readonly buffer Ranges { uvec2 ranges[]; };  // float bits: ~lowest, highest
 layout(push_constant) uniform Push { DenoiseSpatialPush push; };
 #include "denoise_blockers.glsl"
+
+// The radius that gathers targetSamples samples from a pixel whose value averages `frames` frames.
+float gatherRadius(float frames) {
+  return sqrt(push.targetSamples / (3.14159265 * max(frames, 1.0) * float(max(frame.spp, 1u))));
+}
+
+// Whether the values of every tile the pixel's taps may reach - within sqrt(2) radius, rounded,
+// of it, the radius at most gatherRadius - span at most DENOISE_UNIFORM. False where that reach
+// leaves the tiles around the pixel's own.
+bool tilesAgree(ivec2 pix, ivec2 size, float frames) {
+  float reach = 1.41421356 * clamp(gatherRadius(frames), 0.5, push.maxRadius) + 0.5;
+  if (reach > float(DENOISE_GROUP_SIZE)) return false;
+  ivec2 lo = max(pix - ivec2(reach), ivec2(0)) / DENOISE_GROUP_SIZE;
+  ivec2 hi = min(pix + ivec2(reach), size - 1) / DENOISE_GROUP_SIZE;
+  uint tilesX = (frame.width + DENOISE_GROUP_SIZE - 1u) / DENOISE_GROUP_SIZE;
+  uint lowest = 0xffffffffu, highest = 0u;
+  for (int y = lo.y; y <= hi.y; ++y) {
+    for (int x = lo.x; x <= hi.x; ++x) {
+      uvec2 range = ranges[uint(y) * tilesX + uint(x)];
+      lowest = min(lowest, ~range.x);
+      highest = max(highest, range.y);
+    }
+  }
+  return uintBitsToFloat(highest) - uintBitsToFloat(lowest) <= DENOISE_UNIFORM;
+}
 
 void main() {
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(frame.width, frame.height);
   if (pix.x >= size.x || pix.y >= size.y) return;
   uint index = uint(pix.y) * frame.width + uint(pix.x);
-  vec4 position = imageLoad(gPosition, pix);
-  vec2 centre = accumulated[index];
-  if (position.w == 0.0 || !noisy(index)) {
+  vec2 centre = accumulated[index];  // frames 0: not covered
+  if (centre.y == 0.0 || !noisy(index) || (push.skipAgreeing != 0u && tilesAgree(pix, size, centre.y))) {
     visibility[index] = centre.x;
     return;
   }
-  vec3 p = position.xyz;
+  vec3 p = imageLoad(gPosition, pix).xyz;
   vec3 n = imageLoad(gNormal, pix).xyz;
   float pixelWorld = push.pixelScale * distance(p, frame.cameraPosition.xyz);
 
   // The radius that gathers targetSamples samples, bounded by the penumbra's width where a blocker
   // distance is known nearby.
-  float radius = sqrt(push.targetSamples / (3.14159265 * max(centre.y, 1.0) * float(max(frame.spp, 1u))));
+  float radius = gatherRadius(centre.y);
   float blocker = nearbyBlockers(pix).x;
   if (blocker > 0.0) {
     float toLight = distance(p, frame.light.position.xyz);
@@ -64,7 +92,11 @@ void main() {
       vec3 qn = imageLoad(gNormal, q).xyz;
       if ((dot(qn, frame.light.position.xyz - qp.xyz) > 0.0) != facing) continue;  // across the terminator
       float offPlane = abs(dot(n, qp.xyz - p)) / (pixelWorld * sqrt(d2));
-      float w = exp(-2.0 * d2 / (radius * radius)) * exp(-4.0 * offPlane) * pow(max(dot(n, qn), 0.0), 16.0);
+      float c = max(dot(n, qn), 0.0);  // the normals' weight: c^16, squared four times (no pow)
+      c *= c;
+      c *= c;
+      c *= c;
+      float w = exp(-2.0 * d2 / (radius * radius) - 4.0 * offPlane) * (c * c);
       sum += w * accumulated[uint(q.y) * frame.width + uint(q.x)].x;
       weights += w;
     }

@@ -25,6 +25,7 @@ cases=(
   "13#shaders/pip_classify.comp#farthest = max(farthest, axisDepth(m.clip));#farthest = farthest < -1e38 ? axisDepth(m.clip) : min(farthest, axisDepth(m.clip));#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
   "14#shaders/pip_classify.comp#if (lit && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#if (false && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
   "15#hybrid/cheaper_of.h#last_ = *ms_[1] <= *ms_[0];#last_ = *ms_[1] >= *ms_[0];#pass_tests#PenumbraMask.TileTestAutoTakesTheCheaperAndTimesTheOtherAgain"
+  "16#shaders/denoise_spatial.comp#ivec2 lo = max(pix - ivec2(reach), ivec2(0)) / DENOISE_GROUP_SIZE;#ivec2 lo = pix / DENOISE_GROUP_SIZE;#pass_tests#Denoise.SkippingAgreeingPixelsChangesNothing"
 )
 
 wanted=("$@")

@@ -13,6 +13,7 @@
 #include "core/view.h"
 #include "mesh_checks.h"
 #include "render_fixture.h"
+#include "shared/denoise.h"
 
 namespace penumbra::test {
 namespace {
@@ -96,6 +97,31 @@ TEST(Denoise, OneSampleSequenceBeatsFourUndenoisedSamples) {
   EXPECT_LT(oneSpatial, oneRaw);
   EXPECT_LT(against(srt, reference).rmse, fourRaw);
   EXPECT_LT(against(frt, reference).rmse, fourRaw);
+  expectValidationSilent();
+}
+
+// Where every pixel is noisy (frt), most of the courtyard is wholly lit or in umbra around each
+// pixel: the spatial filter leaves those pixels as they are, reading only its tiles' value ranges.
+// Filtering them all the same gives the same frames, up to DENOISE_UNIFORM (and float rounding).
+TEST(Denoise, SkippingAgreeingPixelsChangesNothing) {
+  std::vector<float> frames[2];
+  for (const bool skip : {false, true}) {
+    RenderSettings settings = denoiseSettings(1, DenoiseMode::Temporal);
+    settings.denoise.skipAgreeing = skip;
+    SoftCourtyard run(settings);
+    frames[skip] = run.sequence("frt", 0, 4, run.light).visibility;
+  }
+  ASSERT_EQ(frames[0].size(), frames[1].size());
+  float largest = 0.0f;
+  std::size_t soft = 0;
+  for (std::size_t i = 0; i < frames[0].size(); ++i) {
+    largest = std::max(largest, std::abs(frames[0][i] - frames[1][i]));
+    soft += frames[0][i] > 0.01f && frames[0][i] < 0.99f;
+  }
+  std::cout << "largest difference " << largest << " over " << frames[0].size() << " pixels, " << soft
+            << " in penumbrae\n";
+  EXPECT_GT(soft, 1000u);  // the filter has penumbrae to filter
+  EXPECT_LE(largest, float(DENOISE_UNIFORM) + 1e-6f);
   expectValidationSilent();
 }
 
