@@ -365,6 +365,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   frameBuffer_.upload(std::span<const shared::FrameData>(&frameData_, 1));
   stats.samplesPerPixel = frameData_.spp;
   timer_.reset();
+  maskTilesTested_ = false;
   gbufferRecorded_ = slot.order > 0;  // the frame's first light rendered it
   coveredRead_ = coveredRead_ && slot.order > 0;
 }
@@ -493,6 +494,10 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     if (settings_.pip.explain) {
       const auto why = why_.download<std::uint32_t>(pixels);
       frame.pipWhy.assign(why.begin(), why.end());
+    }
+    if (maskTilesTested_) {
+      const auto* tiles = static_cast<const std::uint32_t*>(maskTiles_.data());
+      frame.maskTiles.assign(tiles, tiles + maskTiles_.size() / sizeof(std::uint32_t));
     }
   }
 

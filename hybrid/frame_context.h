@@ -56,6 +56,9 @@ struct Frame {
   std::vector<std::uint8_t> pip;      // methods that classify: PIP_* flags per pixel (0 = not traced)
   std::vector<float> shadowMapVisibility;  // methods that classify: the sm answer before tracing
   std::vector<std::uint8_t> pipWhy;        // with settings.pip.explain, hard shadows: PIP_WHY_* per pixel
+  // Classified with the penumbra mask's tile test: PIP_TILE_* per PIP_MASK_TILE_SIZE^2 tile of
+  // pixels, rows of ceil(width / PIP_MASK_TILE_SIZE) tiles (else empty)
+  std::vector<std::uint8_t> maskTiles;
   // --light-error, methods that honour it: the light's shared::shadowWeight per pixel (judgeFrame:
   // the error its approximate answers caused)
   std::vector<float> shadowWeight;

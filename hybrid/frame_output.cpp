@@ -10,6 +10,7 @@
 
 #include "core/image_io.h"
 #include "core/metrics.h"
+#include "shared/pip.h"
 
 namespace penumbra {
 
@@ -21,14 +22,24 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
 
 namespace {
 
-// The pixels handed to the tracer, in red over the image (paper Fig. 4).
-void writePipOverlay(const std::string& path, const Frame& frame, const std::vector<std::uint8_t>& pip) {
+// The pixels handed to the tracer in red over the image (paper Fig. 4); with the penumbra mask's
+// tile test, the tiles it cleared (none of their pixels classified) in blue.
+void writePipOverlay(const std::string& path, const Frame& frame, const Frame& light) {
   std::vector<std::uint8_t> overlay = frame.rgba;
-  for (std::size_t i = 0; i < pip.size(); ++i) {
-    if (!pip[i]) continue;
-    overlay[4 * i + 0] = std::uint8_t(0.35f * overlay[4 * i + 0] + 0.65f * 255.0f);
-    overlay[4 * i + 1] = std::uint8_t(0.35f * overlay[4 * i + 1]);
-    overlay[4 * i + 2] = std::uint8_t(0.35f * overlay[4 * i + 2]);
+  const auto tint = [&](std::size_t i, glm::vec3 colour) {
+    for (int c = 0; c < 3; ++c)
+      overlay[4 * i + c] = std::uint8_t(0.35f * float(overlay[4 * i + c]) + 0.65f * 255.0f * colour[c]);
+  };
+  const std::uint32_t tilesPerRow = (frame.width + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE;
+  for (std::size_t i = 0; i < light.pip.size(); ++i) {
+    const std::size_t x = i % frame.width, y = i / frame.width;
+    const std::size_t tile = y / PIP_MASK_TILE_SIZE * tilesPerRow + x / PIP_MASK_TILE_SIZE;
+    if (light.pip[i]) {
+      tint(i, {1.0f, 0.0f, 0.0f});
+    } else if (tile < light.maskTiles.size() && light.maskTiles[tile] == PIP_TILE_CLEAR && i < frame.covered.size() &&
+               frame.covered[i]) {
+      tint(i, {0.25f, 0.5f, 1.0f});
+    }
   }
   writePngRgba8(path, int(frame.width), int(frame.height), overlay);
 }
@@ -46,13 +57,13 @@ void writeFrame(const std::string& dir, const Frame& frame, const nlohmann::json
   writePngRgba8(base + ".png", w, h, frame.rgba);
   writeExrGray(base + ".visibility.exr", w, h, frame.visibility);
   writePngGray16(base + ".visibility.png", w, h, frame.visibility);
-  if (!frame.pip.empty()) writePipOverlay(base + ".pip.png", frame, frame.pip);
+  if (!frame.pip.empty()) writePipOverlay(base + ".pip.png", frame, frame);
   if (frame.lights.size() > 1) std::filesystem::create_directories(dir + "/lights");
   for (std::size_t i = 0; i < frame.lights.size(); ++i) {
     const Frame& light = frame.lights[i];
     if (light.visibility.empty()) continue;  // its buffers were not kept
     writePngGray16(lightBase(dir, frame, i) + ".visibility.png", w, h, light.visibility);
-    if (!light.pip.empty()) writePipOverlay(lightBase(dir, frame, i) + ".pip.png", frame, light.pip);
+    if (!light.pip.empty()) writePipOverlay(lightBase(dir, frame, i) + ".pip.png", frame, light);
   }
   nlohmann::json stats = frame.stats.toJson();
   stats["context"] = context;

@@ -27,6 +27,7 @@ Frame combine(std::vector<Frame> lights, std::vector<std::uint8_t> covered, std:
   frame.rgba = std::move(rgba);
   frame.visibility = lights.front().visibility;
   frame.pip = lights.front().pip;
+  frame.maskTiles = lights.front().maskTiles;
   frame.shadowMapVisibility = lights.front().shadowMapVisibility;
   FrameStats& s = frame.stats;
   const FrameStats& first = lights.front().stats;

@@ -367,6 +367,41 @@ TEST_F(DemoTest, OverlaysMarkExactlyThePixelsTheMethodFlagged) {
   EXPECT_EQ(none.pixels, 0u);
 }
 
+// The tiles overlay (an area light, --tile-test on): the pixels the PIP overlay marks, as it marks
+// them, and in blue (as srt.pip.png) the tiles the penumbra mask's tile test cleared, whose pixels
+// no classification searched.
+TEST_F(DemoTest, TilesOverlayMarksTheTilesTheTileTestCleared) {
+  Xvfb x;
+  ASSERT_TRUE(x.error().empty()) << x.error();
+  const std::string common =
+      "--scene builtin:courtyard --res 128x128 --frames 1 --validate --srt-choice off "
+      "--light-size 0.1 --spp 4 --tile-test on --method srt ";
+  auto shot = [&](const std::string& overlay) {
+    const auto r = demo(common + "--overlay " + overlay + " --screenshot " + path(overlay + ".png"), x.display());
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return readPng(dir_ / (overlay + ".png"));
+  };
+  const Image plain = shot("none"), pip = shot("pip"), tiles = shot("tiles");
+  ASSERT_EQ(plain.width, 128);
+  std::size_t red = 0, blue = 0, wrong = 0;
+  for (std::size_t i = 0; i < plain.rgba.size(); i += 4) {
+    const auto same = [&](const Image& a, const Image& b) {
+      return std::equal(&a.rgba[i], &a.rgba[i + 3], &b.rgba[i]);
+    };
+    if (!same(plain, pip)) {
+      ++red;
+      wrong += !same(pip, tiles);
+    } else if (!same(plain, tiles)) {
+      ++blue;
+      wrong += tiles.rgba[i + 2] <= tiles.rgba[i];
+    }
+  }
+  std::cout << red << " traced pixels, " << blue << " in cleared tiles\n";
+  EXPECT_GT(red, 0u);
+  EXPECT_GT(blue, 0u);
+  EXPECT_EQ(wrong, 0u);
+}
+
 // A run of several lights: the PIP overlay marks the selected light's traced pixels (--select-light),
 // exactly those the CLI's srt traced for that lamp.
 TEST_F(DemoTest, OverlaysShowTheSelectedLight) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -19,6 +20,8 @@
 #include "core/miss_explainer.h"
 #include "core/scene_loader.h"
 #include "hybrid/cheaper_of.h"
+#include "hybrid/frame_output.h"
+#include "png_check.h"
 #include "raster/depth_pyramid_pass.h"
 #include "raster/scene_geometry.h"
 #include "raster/shadow_map_pass.h"
@@ -240,6 +243,33 @@ TEST(PenumbraMask, RulesAccountForEveryMaskedPixel) {
 // bounding the blockers by the tile's nearest receiver instead of its farthest changes the
 // courtyard's mask, dropping the surface channel the groove's. (The spread of the receivers'
 // cone slopes decides no tile here: the first receiver's slopes for all of them change nothing.)
+// The frame carries the tile test's verdicts (one per tile, as many clear as its count says; none
+// without the test), and srt.pip.png shows them: the covered pixels of cleared tiles that are not
+// traced tinted blue, every other untraced pixel as the image has it.
+void expectTileOverlay(const Frame& frame, std::uint64_t clear, bool noneWithout) {
+  EXPECT_TRUE(noneWithout) << "verdicts without the tile test";
+  const std::size_t columns = (frame.width + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE;
+  ASSERT_EQ(frame.maskTiles.size(), columns * ((frame.height + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE));
+  EXPECT_EQ(std::uint64_t(std::count(frame.maskTiles.begin(), frame.maskTiles.end(), PIP_TILE_CLEAR)), clear);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra_tile_overlay";
+  std::filesystem::create_directories(dir);
+  writeFrame(dir.string(), frame, nlohmann::json::object());
+  const Image png = readPng(dir / (frame.stats.method + ".pip.png"));
+  ASSERT_EQ(png.rgba.size(), frame.rgba.size());
+  std::size_t blue = 0, wrong = 0;
+  for (std::size_t i = 0; i < frame.pip.size(); ++i) {
+    if (frame.pip[i]) continue;
+    const std::size_t tile = i / frame.width / PIP_MASK_TILE_SIZE * columns + i % frame.width / PIP_MASK_TILE_SIZE;
+    const bool cleared = frame.covered[i] && frame.maskTiles[tile] == PIP_TILE_CLEAR;
+    const bool asImage = std::equal(&png.rgba[4 * i], &png.rgba[4 * i + 4], &frame.rgba[4 * i]);
+    blue += cleared;
+    wrong += cleared ? asImage || png.rgba[4 * i + 2] <= png.rgba[4 * i] : !asImage;
+  }
+  EXPECT_EQ(wrong, 0u) << "of " << frame.pip.size() << " pixels";
+  EXPECT_EQ(blue > 0, clear > 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(PenumbraMask, TileTestLeavesEveryPixelsMaskAsItWas) {
   struct Case {
     std::string name;
@@ -286,6 +316,7 @@ TEST(PenumbraMask, TileTestLeavesEveryPixelsMaskAsItWas) {
     EXPECT_EQ(differ, 0u) << "of " << masked << " masked pixels";
     EXPECT_GT(masked, 0u);
     if (c.explain) EXPECT_EQ(with.pipWhy, without.pipWhy);
+    expectTileOverlay(with, clear, without.maskTiles.empty());
   }
   EXPECT_GT(clearOverAll, 0u);
   expectValidationSilent();

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
+#include <vector>
 
 namespace penumbra::demo {
 
@@ -18,8 +19,11 @@ void addScriptOptions(CLI::App& app, ScriptOptions& o) {
   app.add_option("--stats-csv", o.statsCsv, "Write one row of stats per frame to this CSV file");
   app.add_flag("--temporal-reference", o.temporalReference,
                "Also render the reference every frame and write its frame-to-frame change (ref_temporal_change)");
-  app.add_option("--overlay", o.overlay, "Overlay: none, pip (traced pixels in red), mask (penumbra mask), thin, error")
-      ->capture_default_str()->check(CLI::IsMember({"none", "pip", "mask", "thin", "error"}));
+  app.add_option("--overlay", o.overlay,
+                 "Overlay: none, pip (traced pixels in red), mask (penumbra mask), thin, error, tiles (the tiles the "
+                 "penumbra mask's tile test cleared in blue, traced pixels in red)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(std::vector<std::string>(kOverlayNames.begin(), kOverlayNames.end())));
   app.add_option("--select-light", o.selectLight,
                  "The light selected at start (0 the first): the one the panel moves, --light-path turns, and the "
                  "overlays and the error show")

@@ -169,11 +169,15 @@ const Frame* DemoSession::reference() const {
   return referenceKey_ && *referenceKey_ == currentKey() ? &reference_ : nullptr;
 }
 
-const std::vector<std::uint8_t>& DemoSession::selectedPip() const {
+const Frame& DemoSession::selectedLightFrame() const {
   const std::optional<std::size_t> k = selectedPlace();
   const bool ofKey = k && *k < frame_.lights.size() && lastKey_.lights.size() == frame_.lights.size();
-  return ofKey && !frame_.lights[*k].pip.empty() ? frame_.lights[*k].pip : frame_.pip;
+  return ofKey && !frame_.lights[*k].pip.empty() ? frame_.lights[*k] : frame_;
 }
+
+const std::vector<std::uint8_t>& DemoSession::selectedPip() const { return selectedLightFrame().pip; }
+
+const std::vector<std::uint8_t>& DemoSession::selectedMaskTiles() const { return selectedLightFrame().maskTiles; }
 
 std::vector<std::uint8_t> DemoSession::errorHeatmap() const {
   const Frame* reference = this->reference();

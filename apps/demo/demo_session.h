@@ -71,6 +71,8 @@ class DemoSession {
   // The selected light's PIP flags in the last frame (what the pip, mask and thin overlays mark), or
   // the frame's own (its first light's) where that light is hidden or the method classified nothing.
   const std::vector<std::uint8_t>& selectedPip() const;
+  // The selected light's tile test verdicts in the last frame (Frame::maskTiles; the tiles overlay).
+  const std::vector<std::uint8_t>& selectedMaskTiles() const;
 
   View view() const;  // what --save-view writes: the camera and lights of the last render
 
@@ -87,6 +89,7 @@ class DemoSession {
   std::vector<Light> renderLights() const;
   // The selected light's place among the lights a frame shows (none where it is hidden).
   std::optional<std::size_t> selectedPlace() const;
+  const Frame& selectedLightFrame() const;  // the selected light's own frame where it has one, else the frame
   // The selected light's visibility in `frame` (a frame of the key's lights), or the frame's own.
   const std::vector<float>& selectedVisibility(const Frame& frame, const Key& key) const;
 

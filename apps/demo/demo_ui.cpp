@@ -19,8 +19,12 @@ constexpr std::array<LightType, 5> kLightTypes = {LightType::Point, LightType::S
                                                   LightType::Rect, LightType::Disk};
 constexpr std::array<const char*, 5> kLightTypeNames = {"point", "spot", "dir", "rect", "disk"};
 constexpr std::array<const char*, 3> kDenoiseModes = {"off", "spatial", "temporal"};
-constexpr std::array<const char*, 5> kOverlayLabels = {"none", "PIP (traced pixels, red)", "penumbra mask",
-                                                       "thin-pass coverage", "error vs reference"};
+constexpr std::array<const char*, 6> kOverlayLabels = {"none",
+                                                       "PIP (traced pixels, red)",
+                                                       "penumbra mask",
+                                                       "thin-pass coverage",
+                                                       "error vs reference",
+                                                       "tile test (tiles it cleared, blue)"};
 
 template <class T, std::size_t N>
 int indexOf(const std::array<T, N>& values, const T& value) {

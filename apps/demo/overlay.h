@@ -8,9 +8,9 @@
 
 namespace penumbra::demo {
 
-enum class Overlay { None, Pip, PenumbraMask, Thin, Error };
+enum class Overlay { None, Pip, PenumbraMask, Thin, Error, Tiles };
 
-inline constexpr std::array<const char*, 5> kOverlayNames = {"none", "pip", "mask", "thin", "error"};
+inline constexpr std::array<const char*, 6> kOverlayNames = {"none", "pip", "mask", "thin", "error", "tiles"};
 
 inline const char* overlayName(Overlay overlay) { return kOverlayNames[std::size_t(overlay)]; }
 
@@ -18,7 +18,7 @@ inline Overlay parseOverlay(const std::string& name) {
   for (std::size_t i = 0; i < kOverlayNames.size(); ++i) {
     if (name == kOverlayNames[i]) return Overlay(i);
   }
-  throw InputError("--overlay '" + name + "' is not an overlay; use none, pip, mask, thin or error");
+  throw InputError("--overlay '" + name + "' is not an overlay; use none, pip, mask, thin, error or tiles");
 }
 
 }  // namespace penumbra::demo

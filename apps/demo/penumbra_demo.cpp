@@ -159,7 +159,7 @@ int runDemo(RunConfig config, const std::string& method, const ScriptOptions& sc
 
     std::vector<std::uint8_t> heatmap;
     if (ui.overlay == Overlay::Error && session.reference()) heatmap = session.errorHeatmap();
-    presenter.upload(session.frame(), session.selectedPip(), heatmap);
+    presenter.upload(session.frame(), session.selectedPip(), heatmap, session.selectedMaskTiles());
     int fbWidth = 0, fbHeight = 0;
     window.framebufferSize(fbWidth, fbHeight);
     presenter.draw(fbWidth, fbHeight, ui.overlay);

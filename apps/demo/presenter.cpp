@@ -28,7 +28,8 @@ constexpr const char* kFragmentShaderTemplate = R"(#version 330 core
 uniform sampler2D image;
 uniform usampler2D pip;
 uniform sampler2D errorMap;
-uniform int overlay;   // 0 none, 1 PIP, 2 penumbra mask, 3 thin, 4 error
+uniform usampler2D tiles;  // PIP_TILE_* per PIP_MASK_TILE_SIZE^2 tile
+uniform int overlay;   // 0 none, 1 PIP, 2 penumbra mask, 3 thin, 4 error, 5 tiles
 uniform vec2 origin;   // viewport origin in window pixels
 uniform float scale;   // window pixels per texel
 uniform ivec2 size;    // frame size in texels
@@ -46,6 +47,9 @@ void main() {
   if (overlay == 2 && (flags & PIP_PENUMBRA) != 0u) c = tint(c, vec3(1.0, 0.75, 0.0));
   if (overlay == 3 && (flags & PIP_THIN) != 0u) c = tint(c, vec3(0.0, 0.9, 1.0));
   if (overlay == 4) c = texelFetch(errorMap, t, 0).rgb;
+  if (overlay == 5 && flags != 0u) c = tint(c, vec3(1.0, 0.0, 0.0));
+  if (overlay == 5 && flags == 0u && texelFetch(tiles, t / PIP_MASK_TILE_SIZE, 0).r == PIP_TILE_CLEAR)
+    c = tint(c, vec3(0.25, 0.5, 1.0));  // as srt.pip.png
   colour = vec4(c, 1.0);
 }
 )";
@@ -82,7 +86,9 @@ unsigned makeTexture() {
 Presenter::Presenter() {
   // The PIP bit values come from the shared header, so the overlay cannot drift from the passes.
   const std::string defines = "#define PIP_THIN " + std::to_string(PIP_THIN) + "u\n#define PIP_PENUMBRA " +
-                              std::to_string(PIP_PENUMBRA) + "u\n";
+                              std::to_string(PIP_PENUMBRA) + "u\n#define PIP_TILE_CLEAR " +
+                              std::to_string(PIP_TILE_CLEAR) + "u\n#define PIP_MASK_TILE_SIZE " +
+                              std::to_string(PIP_MASK_TILE_SIZE) + "\n";
   std::string fragment = kFragmentShaderTemplate;
   fragment.insert(fragment.find('\n') + 1, defines);
   const unsigned vs = compile(GL_VERTEX_SHADER, kVertexShader);
@@ -104,6 +110,7 @@ Presenter::Presenter() {
   glUniform1i(glGetUniformLocation(program_, "image"), 0);
   glUniform1i(glGetUniformLocation(program_, "pip"), 1);
   glUniform1i(glGetUniformLocation(program_, "errorMap"), 2);
+  glUniform1i(glGetUniformLocation(program_, "tiles"), 3);
   overlayLocation_ = glGetUniformLocation(program_, "overlay");
   originLocation_ = glGetUniformLocation(program_, "origin");
   scaleLocation_ = glGetUniformLocation(program_, "scale");
@@ -112,11 +119,12 @@ Presenter::Presenter() {
   image_ = makeTexture();
   pip_ = makeTexture();
   error_ = makeTexture();
+  tiles_ = makeTexture();
 }
 
 Presenter::~Presenter() {
-  const unsigned textures[] = {image_, pip_, error_};
-  glDeleteTextures(3, textures);
+  const unsigned textures[] = {image_, pip_, error_, tiles_};
+  glDeleteTextures(4, textures);
   glDeleteVertexArrays(1, &vertexArray_);
   glDeleteProgram(program_);
 }
@@ -130,11 +138,14 @@ void Presenter::allocate(std::uint32_t width, std::uint32_t height) {
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, GLsizei(width), GLsizei(height), 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
   glBindTexture(GL_TEXTURE_2D, pip_);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, GLsizei(width), GLsizei(height), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
+  glBindTexture(GL_TEXTURE_2D, tiles_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8UI, GLsizei(tileColumns()), GLsizei(tileRows()), 0, GL_RED_INTEGER,
+               GL_UNSIGNED_BYTE, nullptr);
   zeros_.assign(std::size_t(width) * height, 0);
 }
 
 void Presenter::upload(const Frame& frame, std::span<const std::uint8_t> pipFlags,
-                       std::span<const std::uint8_t> errorHeatmap) {
+                       std::span<const std::uint8_t> errorHeatmap, std::span<const std::uint8_t> maskTiles) {
   const std::size_t pixels = std::size_t(frame.width) * frame.height;
   if (frame.rgba.size() != pixels * 4) throw std::logic_error("Presenter::upload: frame has no RGBA image");
   if (frame.width != width_ || frame.height != height_) allocate(frame.width, frame.height);
@@ -144,6 +155,11 @@ void Presenter::upload(const Frame& frame, std::span<const std::uint8_t> pipFlag
   glBindTexture(GL_TEXTURE_2D, pip_);
   const std::uint8_t* flags = pipFlags.size() == pixels ? pipFlags.data() : zeros_.data();
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(width_), GLsizei(height_), GL_RED_INTEGER, GL_UNSIGNED_BYTE, flags);
+  glBindTexture(GL_TEXTURE_2D, tiles_);
+  const std::uint8_t* tiles =
+      maskTiles.size() == std::size_t(tileColumns()) * tileRows() ? maskTiles.data() : zeros_.data();
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, GLsizei(tileColumns()), GLsizei(tileRows()), GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                  tiles);
   hasError_ = errorHeatmap.size() == pixels * 4;
   if (hasError_) {
     glBindTexture(GL_TEXTURE_2D, error_);
@@ -181,6 +197,8 @@ void Presenter::draw(int framebufferWidth, int framebufferHeight, Overlay overla
   glBindTexture(GL_TEXTURE_2D, pip_);
   glActiveTexture(GL_TEXTURE2);
   glBindTexture(GL_TEXTURE_2D, error_);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, tiles_);
   glActiveTexture(GL_TEXTURE0);
   glBindVertexArray(vertexArray_);
   glDrawArrays(GL_TRIANGLES, 0, 3);

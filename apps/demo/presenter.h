@@ -13,6 +13,7 @@
 
 #include "apps/demo/overlay.h"
 #include "hybrid/renderer.h"
+#include "shared/pip.h"
 
 namespace penumbra::demo {
 
@@ -24,9 +25,10 @@ class Presenter {
   Presenter& operator=(const Presenter&) = delete;
 
   // Uploads the frame's RGBA8 image and PIP flags (zeros when the method does not classify) and,
-  // when given (width*height*4 bytes), the error heatmap.
+  // when given, the error heatmap (width*height*4 bytes) and the tile test's verdicts
+  // (Frame::maskTiles).
   void upload(const Frame& frame, std::span<const std::uint8_t> pipFlags,
-              std::span<const std::uint8_t> errorHeatmap = {});
+              std::span<const std::uint8_t> errorHeatmap = {}, std::span<const std::uint8_t> maskTiles = {});
   // Clears the framebuffer and draws the frame with `overlay`, scaled by whole texels where it
   // fits and otherwise by the largest factor that keeps the aspect, centred, nearest sampling.
   // Overlay::Error without an uploaded heatmap draws the plain image.
@@ -43,9 +45,11 @@ class Presenter {
 
  private:
   void allocate(std::uint32_t width, std::uint32_t height);
+  std::uint32_t tileColumns() const { return (width_ + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE; }
+  std::uint32_t tileRows() const { return (height_ + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE; }
 
   unsigned program_ = 0, vertexArray_ = 0;
-  unsigned image_ = 0, pip_ = 0, error_ = 0;  // textures
+  unsigned image_ = 0, pip_ = 0, error_ = 0, tiles_ = 0;  // textures
   int overlayLocation_ = -1, originLocation_ = -1, scaleLocation_ = -1, sizeLocation_ = -1;
   std::uint32_t width_ = 0, height_ = 0;
   bool hasError_ = false;
