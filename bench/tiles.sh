@@ -66,6 +66,10 @@ for (label, view, kind, res), by in cases.items():
     t = lambda r: r["time_ms"]["total"]
     frt_trace = frt["time_ms"].get("trace", 0.0)
     bound = t(sm) + srt["pip_fraction"] * frt_trace
+    # The same bound by traversal steps (GPU BVH): srt's node visits at frt's cost per visit. Penumbra
+    # rays take more steps than frt's average ray, which the pixel share does not count.
+    visits = lambda r: (r.get("traversal") or {}).get("node_visits")
+    step_bound = t(sm) + visits(srt) / visits(frt) * frt_trace if visits(srt) and visits(frt) else None
     pct = lambda v: "" if v is None else "%.3f" % (100 * v)
     rows.append({
         "scene": label, "view": view, "res": res, "shadows": kind,
@@ -73,6 +77,8 @@ for (label, view, kind, res), by in cases.items():
         "srt_auto_path": srta.get("srt_path") or "", "frt_ms": "%.1f" % t(frt), "bound_ms": "%.1f" % bound,
         "frt/srt_off": "%.2f" % (t(frt) / t(srt)), "frt/srt_auto": "%.2f" % (t(frt) / t(srta)),
         "auto/min(frt,off)": "%.2f" % (t(srta) / min(t(frt), t(srt))), "off/bound": "%.2f" % (t(srt) / bound),
+        "step_bound_ms": "" if step_bound is None else "%.1f" % step_bound,
+        "off/step_bound": "" if step_bound is None else "%.2f" % (t(srt) / step_bound),
         "pip_pct": pct(srt["pip_fraction"]), "srt_off_wrong_pct": pct(srt["error"]["wrong_pixel_fraction"]),
         "srt_auto_wrong_pct": pct(srta["error"]["wrong_pixel_fraction"]), "pip_miss_pct": pct(srt["pip_miss_fraction"]),
     })
@@ -82,7 +88,7 @@ table.write(sys.argv[2], "Does the hybrid pay? srt's path choice (bench/tiles.sh
             ("Device: %s. " % machine) + "Frame totals in ms, warm-up 1, median of the repeats, each configuration's methods in one "
             "`compare` run (srt auto in a second one). srt off: the paper's path every frame; srt auto: "
             "`--srt-choice auto` (its path in the measured frames: classify or trace_all); both with the penumbra mask's default `--tile-test auto`. bound: srt's model bound, "
-            "the sm frame plus the PIP share of frt's trace. Wrong: |d| > 0.5 hard, > 0.05 soft against the Embree "
+            "the sm frame plus the PIP share of frt's trace; step_bound: the sm frame plus srt's share of frt's BVH node visits times frt's trace (what srt's own rays cost at frt's cost per step; bvh only). Wrong: |d| > 0.5 hard, > 0.05 soft against the Embree "
             "reference with the same samples; pip_miss: of sm's wrong pixels, those srt off left untraced. "
             "temporal: 1 spp with `--denoise temporal` (wrong against the 1-spp reference).", rows)
 PY
