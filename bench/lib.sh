@@ -42,6 +42,16 @@ bench_real_views() {
   "$fn" "oasago2 (OpenArena)" close --scene "$g/oasago2.gltf" --camera 0.692,0.900,0.988:0,0.258,0
 }
 
+# bench_kind_options KIND: sets the caller's array `extra` to the compare options of tiles.sh's kinds
+# of shadows: hard (none), soft (16 spp, light 0.1) and temporal (1 spp, light 0.1, --denoise temporal).
+bench_kind_options() {
+  case $1 in
+    soft) extra=(--light-size 0.1 --spp 16) ;;
+    temporal) extra=(--light-size 0.1 --spp 1 --denoise temporal) ;;
+    *) extra=() ;;
+  esac
+}
+
 bench_done() {
   echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(uname -m)" |
     tee "bench/results/$bench_name.machine.txt"

@@ -18,10 +18,7 @@ n=0
 one() {
   local label=$1 view=$2 res=$3 kind=$4 extra=() choice
   shift 4
-  case $kind in
-    soft) extra=(--light-size 0.1 --spp 16) ;;
-    temporal) extra=(--light-size 0.1 --spp 1 --denoise temporal) ;;
-  esac
+  bench_kind_options "$kind"
   for choice in off auto; do
     n=$((n + 1))
     local out="$runs/$(printf %03d $n)" methods=srt

@@ -20,11 +20,7 @@ scene() {
   shift 2
   while IFS='|' read -r l v res kind ratio; do
     [ "$l|$v" = "$label|$view" ] || continue
-    case $kind in
-      soft) extra=(--light-size 0.1 --spp 16) ;;
-      temporal) extra=(--light-size 0.1 --spp 1 --denoise temporal) ;;
-      *) extra=() ;;
-    esac
+    bench_kind_options "$kind"
     for round in $(seq "$ROUNDS"); do
       for cfg in auto frt off; do
         n=$((n + 1))

@@ -96,8 +96,9 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
   const float historyFramesNow = historyFrames(in.light, previousLight_, settings);
   // Clipped only where the image may have changed under the history: the light or the geometry moved,
   // or the camera (reprojection takes a neighbouring pixel's history).
-  const bool changed = historyFramesNow < settings.maxHistory || in.sceneVersion != previousSceneVersion_ ||
-                       in.view.viewProj != previousViewProj_;
+  const bool cameraMoved = in.view.viewProj != previousViewProj_;
+  const bool changed =
+      historyFramesNow < settings.maxHistory || in.sceneVersion != previousSceneVersion_ || cameraMoved;
   using Stage = vk::PipelineStageFlagBits2;
   using Access = vk::AccessFlagBits2;
   gpu::memoryBarrier(cmd, Stage::eComputeShader, Access::eShaderStorageRead, Stage::eTransfer, Access::eTransferWrite);
@@ -128,7 +129,7 @@ void DenoisePass::record(const vk::raii::CommandBuffer& cmd, const Inputs& in, c
                .useFlags = in.useFlags ? 1u : 0u,
                .clipSigmas = changed ? settings.clipSigmas : 0.0f,
                .followSpread = settings.followSpread,
-               .stillCamera = in.view.viewProj == previousViewProj_ ? 1u : 0u});
+               .stillCamera = cameraMoved ? 0u : 1u});
   cmd.dispatch(groupsX, groupsY, 1);
   gpu::computeToComputeAndHost(cmd);
   spatial_.bind(cmd, gpu::Descriptors{}

@@ -23,7 +23,7 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
 namespace {
 
 // The pixels handed to the tracer in red over the image (paper Fig. 4); with the penumbra mask's
-// tile test, the tiles it cleared (none of their pixels classified) in blue.
+// tile test, the tiles it cleared (none of their pixels classified) in blue, as the demo's tiles overlay.
 void writePipOverlay(const std::string& path, const Frame& frame, const Frame& light) {
   std::vector<std::uint8_t> overlay = frame.rgba;
   const auto tint = [&](std::size_t i, glm::vec3 colour) {
@@ -36,8 +36,7 @@ void writePipOverlay(const std::string& path, const Frame& frame, const Frame& l
     const std::size_t tile = y / PIP_MASK_TILE_SIZE * tilesPerRow + x / PIP_MASK_TILE_SIZE;
     if (light.pip[i]) {
       tint(i, {1.0f, 0.0f, 0.0f});
-    } else if (tile < light.maskTiles.size() && light.maskTiles[tile] == PIP_TILE_CLEAR && i < frame.covered.size() &&
-               frame.covered[i]) {
+    } else if (tile < light.maskTiles.size() && light.maskTiles[tile] == PIP_TILE_CLEAR) {
       tint(i, {0.25f, 0.5f, 1.0f});
     }
   }

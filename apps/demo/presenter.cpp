@@ -49,7 +49,7 @@ void main() {
   if (overlay == 4) c = texelFetch(errorMap, t, 0).rgb;
   if (overlay == 5 && flags != 0u) c = tint(c, vec3(1.0, 0.0, 0.0));
   if (overlay == 5 && flags == 0u && texelFetch(tiles, t / PIP_MASK_TILE_SIZE, 0).r == PIP_TILE_CLEAR)
-    c = tint(c, vec3(0.25, 0.5, 1.0));  // as srt.pip.png
+    c = tint(c, vec3(0.25, 0.5, 1.0));  // as srt.pip.png (hybrid/frame_output.cpp)
   colour = vec4(c, 1.0);
 }
 )";
