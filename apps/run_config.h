@@ -43,10 +43,12 @@ struct RunConfig {
   std::uint32_t denoiseFrames = 8;  // temporal: the frame of the sequence (after a cut) that is measured
   std::string outDir = "out";
   // What the declared options set (renderOptions(): every pass's, method's and tracer's settings), with
-  // the command line's defaults: srt chooses its path per frame (--srt-choice auto).
+  // the command line's defaults: srt chooses its path per frame (--srt-choice auto) and, for area
+  // lights, per tile (--tile-choice on).
   RenderSettings settings = [] {
     RenderSettings s;
     s.srtChoice = true;
+    s.pip.tileChoice = true;
     return s;
   }();
 };

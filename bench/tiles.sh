@@ -1,7 +1,7 @@
 #!/bin/bash
-# Whether the hybrid pays (issue 39): sm, srt with its path choice off (the paper's: classify, trace
+# Whether the hybrid pays (issue 39): sm, srt with its choices off (the paper's: classify, trace
 # the doubtful pixels) and on (--srt-choice auto: per frame the cheaper of that and tracing every
-# covered pixel, by its own measurements), frt, and srt's model bound (the sm frame plus the PIP share
+# covered pixel, by its own measurements; --tile-choice on: per tile of an area light's frame), frt, and srt's model bound (the sm frame plus the PIP share
 # of frt's trace), on the courtyard and the real models (bench/fetch_scenes.sh), default and close
 # views, 512^2 and 1024^2, hard and 16-spp soft (light 0.1), and 1-spp srt with the temporal
 # denoiser; --tracer bvh (TRACER=rq|embree for the others). Warm-up 1, median of REPEAT frames; ratios
@@ -24,7 +24,8 @@ one() {
     local out="$runs/$(printf %03d $n)" methods=srt
     [ "$choice" = off ] && methods=sm,srt,frt
     echo "== $label $view $res $kind srt-choice $choice"
-    ./build/bin/penumbra compare --methods "$methods" --tracer "$TRACER" --srt-choice "$choice" --res "$res" \
+    ./build/bin/penumbra compare --methods "$methods" --tracer "$TRACER" --srt-choice "$choice" \
+      --tile-choice "$([ "$choice" = off ] && echo off || echo on)" --res "$res" \
       --warmup 1 --repeat "$REPEAT" --no-report --out "$out" "${extra[@]}" "$@" >/dev/null
     printf '%s\n' "$label" "$view" "$kind" "$res" "$choice" >"$out/case"
   done
@@ -67,11 +68,15 @@ for (label, view, kind, res), by in cases.items():
     # rays take more steps than frt's average ray, which the pixel share does not count.
     visits = lambda r: (r.get("traversal") or {}).get("node_visits")
     step_bound = t(sm) + visits(srt) / visits(frt) * frt_trace if visits(srt) and visits(frt) else None
+    counts = srta.get("counts") or {}
+    whole, classified = counts.get("tiles_traced_whole"), counts.get("tiles_classified")
     pct = lambda v: "" if v is None else "%.3f" % (100 * v)
     rows.append({
         "scene": label, "view": view, "res": res, "shadows": kind,
         "sm_ms": "%.1f" % t(sm), "srt_off_ms": "%.1f" % t(srt), "srt_auto_ms": "%.1f" % t(srta),
-        "srt_auto_path": srta.get("srt_path") or "", "frt_ms": "%.1f" % t(frt), "bound_ms": "%.1f" % bound,
+        "srt_auto_path": srta.get("srt_path") or "",
+        "tiles_whole_pct": "%.1f" % (100.0 * whole / (whole + classified)) if whole is not None and whole + classified else "",
+        "frt_ms": "%.1f" % t(frt), "bound_ms": "%.1f" % bound,
         "frt/srt_off": "%.2f" % (t(frt) / t(srt)), "frt/srt_auto": "%.2f" % (t(frt) / t(srta)),
         "auto/min(frt,off)": "%.2f" % (t(srta) / min(t(frt), t(srt))), "off/bound": "%.2f" % (t(srt) / bound),
         "step_bound_ms": "" if step_bound is None else "%.1f" % step_bound,
@@ -83,8 +88,8 @@ sys.path.insert(0, "bench/report")
 import table  # noqa: E402
 table.write(sys.argv[2], "Does the hybrid pay? srt's path choice (bench/tiles.sh, tracer %s)" % sys.argv[3],
             ("Device: %s. " % machine) + "Frame totals in ms, warm-up 1, median of the repeats, each configuration's methods in one "
-            "`compare` run (srt auto in a second one). srt off: the paper's path every frame; srt auto: "
-            "`--srt-choice auto` (its path in the measured frames: classify or trace_all); both with the penumbra mask's default `--tile-test auto`. bound: srt's model bound, "
+            "`compare` run (srt auto in a second one). srt off: the paper's path every frame (`--srt-choice off --tile-choice off`); srt auto: "
+            "`--srt-choice auto` (its path in the measured frames: classify or trace_all) with `--tile-choice on` (tiles_whole: of the tiles with covered pixels, those it traced whole); both with the penumbra mask's default `--tile-test auto`. bound: srt's model bound, "
             "the sm frame plus the PIP share of frt's trace; step_bound: the sm frame plus srt's share of frt's BVH node visits times frt's trace (what srt's own rays cost at frt's cost per step; bvh only). Wrong: |d| > 0.5 hard, > 0.05 soft against the Embree "
             "reference with the same samples; pip_miss: of sm's wrong pixels, those srt off left untraced. "
             "temporal: 1 spp with `--denoise temporal` (wrong against the 1-spp reference).", rows)

@@ -28,7 +28,8 @@ scene() {
         methods=srt choice=$cfg
         [ "$cfg" = frt ] && methods=frt choice=off
         echo "== $label $view $res $kind round $round $cfg"
-        ./build/bin/penumbra compare --methods "$methods" --tracer bvh --srt-choice "$choice" --res "$res" --warmup 1 \
+        ./build/bin/penumbra compare --methods "$methods" --tracer bvh --srt-choice "$choice" \
+          --tile-choice "$([ "$choice" = off ] && echo off || echo on)" --res "$res" --warmup 1 \
           --repeat "$REPEAT" --no-report --out "$out" "${extra[@]}" "$@" >/dev/null
         printf '%s\n' "$label" "$view" "$res" "$kind" "$ratio" "$cfg" >"$out/case"
       done

@@ -1,6 +1,10 @@
 // FrameContext's classification (TraceList::Doubtful, recordClassify): the thin-triangle mask, the
 // edge pyramid, the penumbra mask's tile test (with --tile-test auto, its choice per light) and the
-// PIP classification, then what readBack reports of the tile test.
+// PIP classification with the tile choice, then what readBack reports of the tile test and the
+// tile choice.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <span>
 
 #include "hybrid/frame_context.h"
@@ -29,6 +33,14 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
   push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
   push.tileTest = takesTileTest() ? 1u : 0u;
   maskTilesTested_ = push.tileTest != 0u;
+  // The tile choice: per-pixel rules have no tile to answer for where explained
+  tileChoice_ = nullptr;
+  if (settings_.pip.tileChoice && shared::isAreaLight(frameData_.light) && !settings_.pip.explain) {
+    tileChoice_ = &tileChoices_.try_emplace(slot_.index, context_, maskTiles_.size()).first->second;
+    push.tileTraceBelow = settings_.pip.tileTraceBelow != 0u ? settings_.pip.tileTraceBelow : tileChoice_->traceBelow;
+    push.tilePhase = tileChoice_->frames;
+    stats.memoryBytes["tile_choice"] = 2 * maskTiles_.size();
+  }
   if (!m.pyramid) {
     m.pyramid =
         std::make_unique<raster::DepthPyramidPass>(context_, mapSettings_.resolution, frameData_.shadow.faceCount);
@@ -46,7 +58,15 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
       m.pyramidKey = key;
     }
   }
-  const raster::PipBuffers out{visibility_, smVisibility_, traceFlags_, rayMax_, compact_.count(), why_, maskTiles_};
+  const raster::PipBuffers out{visibility_,
+                               smVisibility_,
+                               traceFlags_,
+                               rayMax_,
+                               compact_.count(),
+                               why_,
+                               maskTiles_,
+                               tileChoice_ ? tileChoice_->last : maskTiles_,
+                               tileChoice_ ? tileChoice_->next : maskTiles_};
   if (push.tileTest) {
     timer_.begin(cmd, "mask_tiles");
     classify_.recordTileTest(cmd, gbuffer_, *m.shadowMap, thinPass, *m.pyramid, frameBuffer_, out, push,
@@ -105,6 +125,74 @@ void FrameContext::reportTileTest(const std::vector<std::pair<std::string, doubl
   }
   stats.counts["mask_tiles"] = tested;
   stats.counts["mask_tiles_clear"] = clear;
+}
+
+FrameContext::TileChoice::TileChoice(const gpu::Context& context, vk::DeviceSize bytes)
+    : last(context, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+           "tile choice counts"),
+      next(context, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+           "tile choice counts") {
+  std::fill_n(static_cast<std::uint8_t*>(last.data()), bytes, std::uint8_t(0));  // no tile known yet
+}
+
+// The cost model: tracing a tile whole costs the rays of its pixels the classification would have
+// left alone and saves the tile's classification, so a tile goes whole where fewer of its covered
+// pixels than (time per classified tile) / (time per traced pixel) were unflagged, plus the tiles
+// found wholly doubtful, which cost no ray more. Both times are this light's last frame's on this
+// device (its last classification's and its last trace's, the paper's path's in a frame that ran both).
+void FrameContext::reportTileChoice(const std::vector<std::pair<std::string, double>>& passes, FrameStats& stats,
+                                    Frame& frame) {
+  if (!tileChoice_) return;
+  TileChoice& c = *tileChoice_;
+  tileChoice_ = nullptr;
+  const auto* counts = static_cast<const std::uint32_t*>(c.next.data());
+  const std::size_t tiles = c.next.size() / sizeof(std::uint32_t);
+  std::uint64_t classified = 0, whole = 0;
+  for (std::size_t i = 0; i < tiles; ++i) {
+    whole += (counts[i] & PIP_TILE_TRACED) != 0u;
+    classified += counts[i] >= PIP_TILE_COVERED && (counts[i] & PIP_TILE_TRACED) == 0u;
+  }
+  stats.counts["tiles_traced_whole"] = whole;
+  stats.counts["tiles_classified"] = classified;
+  if (slot_.buffers) {  // the overlay: tiles traced whole, else the tile test's verdicts or a search each
+    if (frame.maskTiles.empty()) frame.maskTiles.assign(tiles, std::uint8_t(PIP_TILE_NONE));
+    for (std::size_t i = 0; i < tiles; ++i) {
+      if (counts[i] & PIP_TILE_TRACED) {
+        frame.maskTiles[i] = PIP_TILE_TRACE;
+      } else if (!maskTilesTested_ && counts[i] >= PIP_TILE_COVERED) {
+        frame.maskTiles[i] = PIP_TILE_SEARCH;
+      }
+    }
+  }
+  // The frame's last of each pass: its paper's path (run last where --srt-choice auto ran both). The
+  // tile test counts with the classification: tiles traced whole skip it too.
+  double tileTestMs = 0.0;
+  std::optional<double> classifyMs, traceMs;
+  for (const auto& [pass, ms] : passes) {
+    if (pass == "mask_tiles") tileTestMs = ms;
+    if (pass == "classify") classifyMs = ms;
+    if (pass == "trace") traceMs = ms;
+  }
+  if (!traceMs) {  // a CPU tracer's trace (Embree), which no timestamp sees
+    for (const auto& [pass, ms] : stats.passMs) {
+      if (pass == "trace") traceMs = ms;
+    }
+  }
+  const std::uint64_t pixels = stats.pipPixels.value_or(0);
+  if (classifyMs && traceMs && classified > 0 && pixels > 0 && *traceMs > 0.0) {
+    const double perTile = (*classifyMs + tileTestMs) / double(classified), perPixel = *traceMs / double(pixels);
+    const double below = 1.0 + std::floor(perTile / perPixel);
+    c.traceBelow = std::uint32_t(std::min(below, double(PIP_MASK_TILE_SIZE * PIP_MASK_TILE_SIZE + 1)));
+    char note[320];
+    std::snprintf(note, sizeof(note),
+                  "the tile choice traced %llu of %llu tiles whole (--tile-choice on): classifying took %.2f us per "
+                  "tile, the trace %.3f us per pixel, so a tile with fewer than %u unflagged pixels goes whole next",
+                  (unsigned long long)whole, (unsigned long long)(whole + classified), 1000.0 * perTile,
+                  1000.0 * perPixel, c.traceBelow);
+    stats.notes.push_back(note);
+  }
+  std::swap(c.last, c.next);
+  ++c.frames;
 }
 
 }  // namespace penumbra

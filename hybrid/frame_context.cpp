@@ -366,6 +366,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   stats.samplesPerPixel = frameData_.spp;
   timer_.reset();
   maskTilesTested_ = false;
+  tileChoice_ = nullptr;
   gbufferRecorded_ = slot.order > 0;  // the frame's first light rendered it
   coveredRead_ = coveredRead_ && slot.order > 0;
 }
@@ -505,6 +506,7 @@ Frame FrameContext::readBack(const Method& method, FrameStats stats) {
     stats.notes.push_back("its maps are past --light-maps-memory " + std::to_string(settings_.lightMapsMiB) +
                           " MiB (other lights keep theirs): rendered again every frame");
   }
+  reportTileChoice(passes, stats, frame);
   stats.refit = refit_;
   stats.memoryBytes["scene_geometry"] = geometry_.bytes();
   stats.memoryBytes["gbuffer"] = gbuffer_.bytes();

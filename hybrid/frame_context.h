@@ -191,6 +191,10 @@ class FrameContext {
   // and in readBack, with the frame's passes, --tile-test auto's time of its take and the test's counts.
   bool takesTileTest();
   void reportTileTest(const std::vector<std::pair<std::string, double>>& passes, bool classified, FrameStats& stats);
+  // In readBack, where the frame classified with the tile choice: its counts (how many tiles took
+  // which path; into frame.maskTiles, with buffers), the cost model's threshold for the light's
+  // next frame from this one's timings, and the counts' buffers swapped.
+  void reportTileChoice(const std::vector<std::pair<std::string, double>>& passes, FrameStats& stats, Frame& frame);
   // Before an in-place trace: its dispatch size (every pixel, in tiles) in the count buffer.
   void recordInPlaceCount(const vk::raii::CommandBuffer& cmd);
   shared::TraceCount inPlaceCount(const glm::uvec4& rect) const;  // every tile's pixels of rect
@@ -265,7 +269,18 @@ class FrameContext {
   // with each; the take of this light's frame (classify), timed in readBack.
   std::map<std::uint32_t, CheaperOf> tileTestChoices_;
   std::optional<bool> tileTestTake_;
-  bool mapsPastBudget_ = false;  // its own would not fit settings().lightMapsMiB
+  // The tile choice (PipSettings::tileChoice), by light index: the counts of its last frame and of
+  // this one (PipBuffers::tileDoubtLast, tileDoubt; swapped after each frame that classified), the
+  // frames it classified (PipPush::tilePhase) and its cost model's threshold (PipPush::tileTraceBelow:
+  // 1 until timed, so that only tiles found wholly doubtful are traced whole).
+  struct TileChoice {
+    TileChoice(const gpu::Context& context, vk::DeviceSize bytes);
+    gpu::Buffer last, next;
+    std::uint32_t frames = 0, traceBelow = 1;
+  };
+  std::map<std::uint32_t, TileChoice> tileChoices_;
+  TileChoice* tileChoice_ = nullptr;  // this light's, where its frame classified with it
+  bool mapsPastBudget_ = false;       // its own would not fit settings().lightMapsMiB
   LightMaps& maps();
   LightMaps& chooseMaps();
   // The moving meshes' boxes as of the last sceneMoved, and what the last moves swept (each mesh's

@@ -22,8 +22,9 @@ void writeJson(const std::string& path, const nlohmann::json& value) {
 
 namespace {
 
-// The pixels handed to the tracer in red over the image (paper Fig. 4); with the penumbra mask's
-// tile test, the tiles it cleared (none of their pixels classified) in blue, as the demo's tiles overlay.
+// The pixels handed to the tracer in red over the image (paper Fig. 4), those of tiles the tile choice
+// traced whole in orange; with the penumbra mask's tile test, the tiles it cleared (none of their
+// pixels classified) in blue, as the demo's tiles overlay.
 void writePipOverlay(const std::string& path, const Frame& frame, const Frame& light) {
   std::vector<std::uint8_t> overlay = frame.rgba;
   const auto tint = [&](std::size_t i, glm::vec3 colour) {
@@ -34,9 +35,10 @@ void writePipOverlay(const std::string& path, const Frame& frame, const Frame& l
   for (std::size_t i = 0; i < light.pip.size(); ++i) {
     const std::size_t x = i % frame.width, y = i / frame.width;
     const std::size_t tile = y / PIP_MASK_TILE_SIZE * tilesPerRow + x / PIP_MASK_TILE_SIZE;
+    const std::uint8_t verdict = tile < light.maskTiles.size() ? light.maskTiles[tile] : PIP_TILE_NONE;
     if (light.pip[i]) {
-      tint(i, {1.0f, 0.0f, 0.0f});
-    } else if (tile < light.maskTiles.size() && light.maskTiles[tile] == PIP_TILE_CLEAR) {
+      tint(i, verdict == PIP_TILE_TRACE ? glm::vec3(1.0f, 0.6f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f));
+    } else if (verdict == PIP_TILE_CLEAR) {
       tint(i, {0.25f, 0.5f, 1.0f});
     }
   }

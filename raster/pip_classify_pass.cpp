@@ -19,7 +19,9 @@ constexpr gpu::Binding kBindings[] = {{PIP_BINDING_POSITION, vk::DescriptorType:
                                       {PIP_BINDING_COUNT, vk::DescriptorType::eStorageBuffer},
                                       {PIP_BINDING_WHY, vk::DescriptorType::eStorageBuffer},
                                       {PIP_BINDING_FACE_NORMAL, vk::DescriptorType::eStorageImage},
-                                      {PIP_BINDING_MASK_TILES, vk::DescriptorType::eStorageBuffer}};
+                                      {PIP_BINDING_MASK_TILES, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_TILE_DOUBT_LAST, vk::DescriptorType::eStorageBuffer},
+                                      {PIP_BINDING_TILE_DOUBT, vk::DescriptorType::eStorageBuffer}};
 
 }  // namespace
 
@@ -44,6 +46,12 @@ const Options<PipSettings>& pipOptions() {
              "with or without it by its own timings of both (the light's first frame warms with it, the next two "
              "time each, every 32nd the other again)",
              {{"auto", TileTest::Auto}, {"on", TileTest::On}, {"off", TileTest::Off}});
+    o.choice("--tile-choice", "pip/tile_choice", &PipSettings::tileChoice,
+             "Area lights: trace every pixel of an 8x8 tile, without classifying or searching any, where the last "
+             "frame found so many of them doubtful that the frame's cost model (the classification's time per tile, "
+             "the trace's per ray, both timed on this device) predicts it cheaper; each such tile is classified "
+             "again every 8th frame. off: the paper's per-pixel classification everywhere",
+             {{"on", true}, {"off", false}});
     o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,
              "Bound srt's hard-shadow rays by the shadow map's blocker depths", {{"on", true}, {"off", false}});
     return o;
@@ -86,17 +94,20 @@ void PipClassifyPass::record(const vk::raii::CommandBuffer& cmd, const GBufferPa
                              const ShadowMapPass& shadowMap, const ThinTrianglePass* thin,
                              const DepthPyramidPass& pyramid, const gpu::Buffer& frame, const PipBuffers& out,
                              shared::PipPush push, bool explain) const {
-  if (explain) {
-    cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
+  if (explain) cmd.fillBuffer(out.why.handle(), 0, VK_WHOLE_SIZE, PIP_WHY_NONE);
+  if (push.tileTraceBelow != 0u) cmd.fillBuffer(out.tileDoubt.handle(), 0, VK_WHOLE_SIZE, 0u);
+  if (explain || push.tileTraceBelow != 0u) {
     gpu::memoryBarrier(cmd, vk::PipelineStageFlagBits2::eClear, vk::AccessFlagBits2::eTransferWrite,
-                       vk::PipelineStageFlagBits2::eComputeShader, vk::AccessFlagBits2::eShaderStorageWrite);
+                       vk::PipelineStageFlagBits2::eComputeShader,
+                       vk::AccessFlagBits2::eShaderStorageWrite | vk::AccessFlagBits2::eShaderStorageRead);
   }
   gpu::Descriptors descriptors;
   complete(descriptors, push, gbuffer, shadowMap, thin, pyramid, frame, out);
   const gpu::ComputePipeline& pipeline = pipeline_(texelReads(shadowMap, thin), explain);
   pipeline.bind(cmd, descriptors);
   pipeline.pushConstants(cmd, push);
-  cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
+  cmd.dispatch((gbuffer.width() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE,
+               (gbuffer.height() + PIP_GROUP_SIZE - 1) / PIP_GROUP_SIZE, 1);
   gpu::computeToComputeAndHost(cmd);
 }
 
@@ -121,7 +132,9 @@ void PipClassifyPass::complete(gpu::Descriptors& descriptors, shared::PipPush& p
       .buffer(PIP_BINDING_COUNT, out.count)
       .buffer(PIP_BINDING_WHY, out.why)
       .storageImage(PIP_BINDING_FACE_NORMAL, gbuffer.faceNormal().view())
-      .buffer(PIP_BINDING_MASK_TILES, out.maskTiles);
+      .buffer(PIP_BINDING_MASK_TILES, out.maskTiles)
+      .buffer(PIP_BINDING_TILE_DOUBT_LAST, out.tileDoubtLast)
+      .buffer(PIP_BINDING_TILE_DOUBT, out.tileDoubt);
 }
 
 }  // namespace penumbra::raster

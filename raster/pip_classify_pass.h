@@ -25,6 +25,12 @@ struct PipSettings {
   bool appendList = true;         // the classification writes the trace list itself (else the compaction
                                   // pass makes it from the flags, as it must when corner maps add flags)
   TileTest tileTest = TileTest::Auto;  // area lights: the penumbra mask's tile test first (TileTest)
+  // Area lights: per tile, classify its pixels or trace them all, whichever the frame's cost model
+  // predicts is cheaper (PipPush::tileTraceBelow; FrameContext::classify). The library's default
+  // is the paper's per-pixel classification everywhere; the command line's, the choice.
+  bool tileChoice = false;
+  // Tests: the tile choice's threshold (PipPush::tileTraceBelow) fixed, instead of the cost model's.
+  std::uint32_t tileTraceBelow = 0;
   bool explain = false;  // write why each unflagged pixel was left out (PIP_WHY_*; area lights: PIP_MASK_*)
 };
 
@@ -44,6 +50,10 @@ struct PipBuffers {
   const gpu::Buffer& why;  // uint: PIP_WHY_* per pixel, written where explained (zeroed first)
   // uint per tile of PIP_MASK_TILE_SIZE^2 pixels: PIP_TILE_*, written where PipPush::tileTest.
   const gpu::Buffer& maskTiles;
+  // uint per tile, where PipPush::tileTraceBelow (the tile choice): the last frame's counts
+  // (PIP_TILE_COVERED), read, and this frame's, zeroed and written (transfer destination).
+  const gpu::Buffer& tileDoubtLast;
+  const gpu::Buffer& tileDoubt;
 };
 
 class PipClassifyPass {

@@ -28,9 +28,14 @@
 // its edges' splats to the mask (cornerUnion).
 // With PipPush::appendList the flagged pixels also go straight into the trace list (ShadingPoints
 // and their count), so that no compaction pass has to read every pixel's flags again.
+// Area lights, with PipPush::tileTraceBelow (the tile choice): a tile of PIP_MASK_TILE_SIZE^2
+// pixels that the last frame found (nearly) all doubtful is traced whole - every pixel flagged,
+// none searched - where the host's cost model says that is cheaper (FrameContext::classify); the
+// others count their covered and flagged pixels for the next frame's choice.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
 #include "shared/frame.h"
@@ -66,6 +71,34 @@ layout(constant_id = 1) const bool kExplain = false;
 layout(constant_id = 2) const bool kTilePass = false;
 layout(std430, binding = PIP_BINDING_MASK_TILES) buffer MaskTiles { uint maskTiles[]; };
 uint tileIndex(uvec2 tile) { return tile.y * ((frame.width + PIP_MASK_TILE_SIZE - 1u) / PIP_MASK_TILE_SIZE) + tile.x; }
+layout(std430, binding = PIP_BINDING_TILE_DOUBT_LAST) readonly buffer TileDoubtLast { uint tileDoubtLast[]; };
+layout(std430, binding = PIP_BINDING_TILE_DOUBT) buffer TileDoubt { uint tileDoubt[]; };
+
+// The tile choice: whether this frame traces `tile` whole (PipPush::tileTraceBelow).
+bool traceWhole(uint tile) {
+  if (push.tileTraceBelow == 0u || (tile + push.tilePhase) % PIP_TILE_REFRESH == 0u) return false;
+  uint last = tileDoubtLast[tile] & ~PIP_TILE_TRACED;
+  uint covered = last / PIP_TILE_COVERED, flagged = last % PIP_TILE_COVERED;
+  return covered > 0u && covered - flagged < push.tileTraceBelow;
+}
+
+// The tile choice's counts for the next frame (PIP_BINDING_TILE_DOUBT): a tile traced whole
+// carries its last ones over; the others add up their pixels, one atomic per subgroup and tile.
+void countTile(uint tile, uvec2 pix, bool covered, bool flagged, bool traced) {
+  if (traced) {
+    if (all(equal(pix % PIP_MASK_TILE_SIZE, uvec2(0u)))) tileDoubt[tile] = tileDoubtLast[tile] | PIP_TILE_TRACED;
+    return;
+  }
+  uint v = (covered ? PIP_TILE_COVERED : 0u) + (flagged ? 1u : 0u);
+  for (;;) {  // the lanes' tiles in turn (one on lavapipe's 8-wide subgroups, two on 32-wide ones)
+    uint first = subgroupBroadcastFirst(tile);
+    if (tile == first) {
+      uint sum = subgroupAdd(v);
+      if (subgroupElect() && sum != 0u) atomicAdd(tileDoubt[tile], sum);
+      break;
+    }
+  }
+}
 #include "point_list.glsl"
 #include "light_texels.glsl"
 #include "receiver_plane.glsl"
@@ -283,7 +316,7 @@ MapPoint mapPoint(vec3 p, vec3 n) {
 
 // Classifies the pixel at `index` (covered: p, n) and writes its outputs; returns its flags.
 // tileClear: the mask's tile test found no blocker within reach of any pixel of its tile.
-uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, bool tileClear, out float rayEnd) {
+uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, bool tileClear, bool wholeTile, out float rayEnd) {
   rayEnd = 0.0;
   // A corner map (--penumbra-maps 5) only adds its edges' splats to the centre pass's mask.
   bool corner = push.cornerUnion != 0u;
@@ -331,6 +364,7 @@ uint classify(uint index, ivec2 pix, vec3 p, vec3 n, vec3 nf, bool tileClear, ou
     if (kExplain) why[index] = PIP_WHY_LIGHT_ERROR;
     return write(index, vis, 0u, 0.0, rayEnd);
   }
+  if (wholeTile) return write(index, vis, PIP_PENUMBRA, 0.0, rayEnd);  // the tile choice traces it: no search
 
   uint flags = 0u;
   float thinDepth = frame.shadow.farPlane;
@@ -522,7 +556,9 @@ uint maskTile(uvec2 tile) {
 void main() {
   if (kTilePass) {
     uvec2 tile = gl_GlobalInvocationID.xy;
-    if (all(lessThan(tile * PIP_MASK_TILE_SIZE, uvec2(frame.width, frame.height)))) maskTiles[tileIndex(tile)] = maskTile(tile);
+    if (any(greaterThanEqual(tile * PIP_MASK_TILE_SIZE, uvec2(frame.width, frame.height)))) return;
+    uint index = tileIndex(tile);
+    maskTiles[index] = traceWhole(index) ? PIP_TILE_TRACE : maskTile(tile);
     return;
   }
   ivec2 pix = ivec2(gl_GlobalInvocationID.xy);
@@ -534,16 +570,19 @@ void main() {
   vec3 n = vec3(0.0);
   float rayEnd = 0.0;
   uint flags = 0u;
+  uint tile = tileIndex(uvec2(pix) / PIP_MASK_TILE_SIZE);
+  bool wholeTile = inside && traceWhole(tile);
   if (position.w != 0.0) {
     n = imageLoad(gNormal, pix).xyz;
-    bool tileClear = push.tileTest != 0u && maskTiles[tileIndex(uvec2(pix) / PIP_MASK_TILE_SIZE)] == PIP_TILE_CLEAR;
+    bool tileClear = push.tileTest != 0u && maskTiles[tile] == PIP_TILE_CLEAR;
     // The face normal (layerOver's plane) is loaded here with the others: under layerOver's
     // divergent condition lavapipe paid ~1.3 ms more for the same load at 1024^2.
-    flags = classify(index, pix, position.xyz, n, faceNormalAt(pix), tileClear, rayEnd);
+    flags = classify(index, pix, position.xyz, n, faceNormalAt(pix), tileClear, wholeTile, rayEnd);
   } else if (inside && push.cornerUnion == 0u) {
     visibility[index] = inRect ? 1.0 : 0.0;
     traceFlags[index] = 0u;
   }
+  if (push.tileTraceBelow != 0u && inside) countTile(tile, uvec2(pix), position.w != 0.0, flags != 0u, wholeTile);
   if (push.appendList == 0u) return;  // uniform: the compaction pass makes the list
 
   // The flagged pixels go straight into the trace list: one atomic on the list's count per

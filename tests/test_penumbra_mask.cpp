@@ -374,6 +374,89 @@ TEST(PenumbraMask, TileTestAutoKeepsTheMaskInEveryFrame) {
   expectValidationSilent();
 }
 
+// The tile choice (--tile-choice on) with its threshold fixed: the light's first frame is the
+// paper's; from then on each frame traces whole exactly the tiles whose last classification left
+// fewer than the threshold of their covered pixels unflagged - counts carried over where a tile was
+// traced whole - but for the tiles of the frame's refresh phase, which classify again; every pixel
+// the paper's path traces is traced, the rest keep the map's answer, and srt.pip.png tints the
+// pixels of the tiles traced whole orange instead of red.
+TEST(PenumbraMask, TileChoiceTracesWholeTheTilesFoundDoubtful) {
+  constexpr std::uint32_t kBelow = 9;
+  for (const char* spec : {"builtin:courtyard", "builtin:foliage"}) {
+    SCOPED_TRACE(spec);
+    RenderSettings settings = maskSettings(256);
+    settings.pip.tileChoice = true;
+    settings.pip.tileTraceBelow = kBelow;
+    SceneRun run(spec, settings);
+    run.light.size = 0.1f * run.scene.bounds().radius();
+    std::vector<Frame> frames;
+    for (int i = 0; i < 3; ++i) frames.push_back(run.render("srt"));
+    settings.pip.tileChoice = false;
+    SceneRun paperRun(spec, settings);
+    paperRun.light = run.light;
+    const Frame paper = paperRun.render("srt");
+    const Frame frt = paperRun.render("frt");
+
+    const Frame& first = frames[0];
+    EXPECT_EQ(first.stats.counts.at("tiles_traced_whole"), 0u);
+    EXPECT_EQ(first.pip, paper.pip);
+    EXPECT_EQ(first.visibility, paper.visibility);
+    // The paper's counts per tile, which every later frame sees (the view stands still).
+    const std::uint32_t columns = (first.width + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE;
+    const std::size_t tiles = first.maskTiles.size();
+    ASSERT_EQ(tiles, std::size_t(columns) * ((first.height + PIP_MASK_TILE_SIZE - 1) / PIP_MASK_TILE_SIZE));
+    std::vector<std::uint32_t> covered(tiles, 0), unflagged(tiles, 0);
+    const auto tileOf = [&](std::size_t i) {
+      return i / first.width / PIP_MASK_TILE_SIZE * columns + i % first.width / PIP_MASK_TILE_SIZE;
+    };
+    for (std::size_t i = 0; i < paper.pip.size(); ++i) {
+      covered[tileOf(i)] += paper.covered[i];
+      unflagged[tileOf(i)] += paper.covered[i] && !paper.pip[i];
+    }
+    for (std::uint32_t phase = 1; phase < frames.size(); ++phase) {
+      SCOPED_TRACE("frame " + std::to_string(phase));
+      const Frame& f = frames[phase];
+      std::uint64_t expected = 0;
+      std::size_t wrongTiles = 0, lost = 0, changed = 0, untraced = 0;
+      for (std::size_t t = 0; t < tiles; ++t) {
+        const bool whole = covered[t] > 0 && unflagged[t] < kBelow && (t + phase) % PIP_TILE_REFRESH != 0;
+        expected += whole;
+        wrongTiles += whole != (f.maskTiles[t] == PIP_TILE_TRACE);
+      }
+      for (std::size_t i = 0; i < f.pip.size(); ++i) {
+        lost += paper.pip[i] && !f.pip[i];                               // the paper traced it: so must this
+        changed += !f.pip[i] && f.visibility[i] != paper.visibility[i];  // the map's answer
+        untraced += f.maskTiles[tileOf(i)] == PIP_TILE_TRACE && f.covered[i] && !f.pip[i] && f.visibility[i] != 0.0f;
+      }
+      EXPECT_GT(expected, 0u);
+      EXPECT_EQ(f.stats.counts.at("tiles_traced_whole"), expected);
+      EXPECT_EQ(wrongTiles, 0u) << "of " << expected << " tiles to trace whole";
+      EXPECT_EQ(lost, 0u);
+      EXPECT_EQ(changed, 0u);
+      EXPECT_EQ(untraced, 0u) << "lit pixels of tiles traced whole left to the map";
+      EXPECT_EQ(penumbraMissFraction(frt.visibility, frt.covered, f.pip), 0.0);
+    }
+    // The overlay: flagged pixels orange in tiles traced whole, red elsewhere.
+    const Frame& last = frames.back();
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "penumbra_tile_choice_overlay";
+    std::filesystem::create_directories(dir);
+    writeFrame(dir.string(), last, nlohmann::json::object());
+    const Image png = readPng(dir / "srt.pip.png");
+    ASSERT_EQ(png.rgba.size(), last.rgba.size());
+    std::size_t orange = 0, wrong = 0;
+    for (std::size_t i = 0; i < last.pip.size(); ++i) {
+      if (!last.pip[i]) continue;
+      const bool whole = last.maskTiles[tileOf(i)] == PIP_TILE_TRACE;
+      orange += whole;
+      wrong += whole != (png.rgba[4 * i + 1] >= 99);  // 0.65 * 0.6 * 255: the tint's green alone
+    }
+    EXPECT_GT(orange, 0u);
+    EXPECT_EQ(wrong, 0u);
+    std::filesystem::remove_all(dir);
+  }
+  expectValidationSilent();
+}
+
 // The light map of `spec` (a disk light 0.1 of its radius wide at its light), its thin mask when
 // withThin, and the edge pyramid over them, read back from the GPU. 200^2 texels: no power of two,
 // so tiles are cut at the face's edge.

@@ -21,7 +21,8 @@ void addScriptOptions(CLI::App& app, ScriptOptions& o) {
                "Also render the reference every frame and write its frame-to-frame change (ref_temporal_change)");
   app.add_option("--overlay", o.overlay,
                  "Overlay: none, pip (traced pixels in red), mask (penumbra mask), thin, error, tiles (the tiles the "
-                 "penumbra mask's tile test cleared in blue, traced pixels in red)")
+                 "penumbra mask's tile test cleared in blue, traced pixels in red, or orange where the tile choice "
+                 "traced their tile whole)")
       ->capture_default_str()
       ->check(CLI::IsMember(std::vector<std::string>(kOverlayNames.begin(), kOverlayNames.end())));
   app.add_option("--select-light", o.selectLight,

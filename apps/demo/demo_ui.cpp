@@ -24,7 +24,7 @@ constexpr std::array<const char*, 6> kOverlayLabels = {"none",
                                                        "penumbra mask",
                                                        "thin-pass coverage",
                                                        "error vs reference",
-                                                       "tile test (tiles it cleared, blue)"};
+                                                       "tiles (cleared blue, traced whole orange)"};
 
 template <class T, std::size_t N>
 int indexOf(const std::array<T, N>& values, const T& value) {

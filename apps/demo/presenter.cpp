@@ -47,9 +47,9 @@ void main() {
   if (overlay == 2 && (flags & PIP_PENUMBRA) != 0u) c = tint(c, vec3(1.0, 0.75, 0.0));
   if (overlay == 3 && (flags & PIP_THIN) != 0u) c = tint(c, vec3(0.0, 0.9, 1.0));
   if (overlay == 4) c = texelFetch(errorMap, t, 0).rgb;
-  if (overlay == 5 && flags != 0u) c = tint(c, vec3(1.0, 0.0, 0.0));
-  if (overlay == 5 && flags == 0u && texelFetch(tiles, t / PIP_MASK_TILE_SIZE, 0).r == PIP_TILE_CLEAR)
-    c = tint(c, vec3(0.25, 0.5, 1.0));  // as srt.pip.png (hybrid/frame_output.cpp)
+  uint verdict = texelFetch(tiles, t / PIP_MASK_TILE_SIZE, 0).r;  // as srt.pip.png (hybrid/frame_output.cpp)
+  if (overlay == 5 && flags != 0u) c = tint(c, verdict == PIP_TILE_TRACE ? vec3(1.0, 0.6, 0.0) : vec3(1.0, 0.0, 0.0));
+  if (overlay == 5 && flags == 0u && verdict == PIP_TILE_CLEAR) c = tint(c, vec3(0.25, 0.5, 1.0));
   colour = vec4(c, 1.0);
 }
 )";
@@ -85,10 +85,10 @@ unsigned makeTexture() {
 
 Presenter::Presenter() {
   // The PIP bit values come from the shared header, so the overlay cannot drift from the passes.
-  const std::string defines = "#define PIP_THIN " + std::to_string(PIP_THIN) + "u\n#define PIP_PENUMBRA " +
-                              std::to_string(PIP_PENUMBRA) + "u\n#define PIP_TILE_CLEAR " +
-                              std::to_string(PIP_TILE_CLEAR) + "u\n#define PIP_MASK_TILE_SIZE " +
-                              std::to_string(PIP_MASK_TILE_SIZE) + "\n";
+  const std::string defines =
+      "#define PIP_THIN " + std::to_string(PIP_THIN) + "u\n#define PIP_PENUMBRA " + std::to_string(PIP_PENUMBRA) +
+      "u\n#define PIP_TILE_CLEAR " + std::to_string(PIP_TILE_CLEAR) + "u\n#define PIP_TILE_TRACE " +
+      std::to_string(PIP_TILE_TRACE) + "u\n#define PIP_MASK_TILE_SIZE " + std::to_string(PIP_MASK_TILE_SIZE) + "\n";
   std::string fragment = kFragmentShaderTemplate;
   fragment.insert(fragment.find('\n') + 1, defines);
   const unsigned vs = compile(GL_VERTEX_SHADER, kVertexShader);

@@ -23,11 +23,22 @@ PN_BEGIN
 #define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_* (area lights: PIP_MASK_* bits where flagged)
 #define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
 #define PIP_BINDING_MASK_TILES 16     // uint per PIP_MASK_TILE_SIZE^2 tile of pixels: PIP_TILE_* (PipPush::tileTest)
+#define PIP_BINDING_TILE_DOUBT_LAST 17  // uint per tile: PIP_TILE_DOUBT of the last frame (PipPush::tileTraceBelow)
+#define PIP_BINDING_TILE_DOUBT 18       // uint per tile: this frame's (zeroed first)
 
 // The penumbra mask's tile test (PipPush::tileTest): what it found for a tile's pixels.
 #define PIP_TILE_NONE 0u    // no pixel of the tile searches
 #define PIP_TILE_SEARCH 1u  // a blocker may lie within reach of one of them: each searches alone
 #define PIP_TILE_CLEAR 2u   // no blocker lies within reach of any of them: none searches
+#define PIP_TILE_TRACE 3u   // the tile choice (PipPush::tileTraceBelow) traced every pixel of it: none searches
+
+// The tile choice (PipPush::tileTraceBelow), area lights: per tile of PIP_MASK_TILE_SIZE^2 pixels,
+// what its last classification found, as PIP_TILE_COVERED * covered pixels + flagged ones;
+// PIP_TILE_TRACED where this frame traced the tile whole instead (the counts carried over).
+// Such a tile is classified again every PIP_TILE_REFRESH-th frame (staggered), as views change.
+#define PIP_TILE_COVERED 0x10000u
+#define PIP_TILE_TRACED 0x80000000u
+#define PIP_TILE_REFRESH 8u
 
 // Why a pixel was marked (bits of traceFlags; nonzero = trace it).
 #define PIP_EDGE 1u       // depth edge in the 3x3 neighbourhood that can reach the receiver (d-hat test)
@@ -87,7 +98,10 @@ struct PipPush {  // 64 bytes
   uvec2 shadowTexelsAt;
   uvec2 thinTexelsAt;
   uvec2 tilesAt;
-  uint pad0, pad1;
+  // Area lights, the tile choice: a tile whose last classification left fewer than this many of
+  // its covered pixels unflagged is traced whole (all flagged PIP_PENUMBRA, none searches); 0: off.
+  uint tileTraceBelow;
+  uint tilePhase;  // the frame's count: tiles with (index + tilePhase) % PIP_TILE_REFRESH == 0 classify
 };
 
 PN_END
