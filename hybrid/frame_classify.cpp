@@ -33,7 +33,7 @@ bool FrameContext::classify(const vk::raii::CommandBuffer& cmd, FrameStats& stat
   push.appendList = appendList && settings_.pip.appendList && !cornerMaps ? 1u : 0u;  // corner maps add flags after it
   push.tileTest = takesTileTest() ? 1u : 0u;
   maskTilesTested_ = push.tileTest != 0u;
-  // The tile choice: per-pixel rules have no tile to answer for where explained
+  // The tile choice; not where explained, which wants every pixel's own rules
   tileChoice_ = nullptr;
   if (settings_.pip.tileChoice && shared::isAreaLight(frameData_.light) && !settings_.pip.explain) {
     tileChoice_ = &tileChoices_.try_emplace(slot_.index, context_, maskTiles_.size()).first->second;

@@ -26,7 +26,7 @@ struct PipSettings {
                                   // pass makes it from the flags, as it must when corner maps add flags)
   TileTest tileTest = TileTest::Auto;  // area lights: the penumbra mask's tile test first (TileTest)
   // Area lights: per tile, classify its pixels or trace them all, whichever the frame's cost model
-  // predicts is cheaper (PipPush::tileTraceBelow; FrameContext::classify). The library's default
+  // predicts is cheaper (PipPush::tileTraceBelow; FrameContext::reportTileChoice). The library's default
   // is the paper's per-pixel classification everywhere; the command line's, the choice.
   bool tileChoice = false;
   // Tests: the tile choice's threshold (PipPush::tileTraceBelow) fixed, instead of the cost model's.

@@ -30,7 +30,7 @@
 // and their count), so that no compaction pass has to read every pixel's flags again.
 // Area lights, with PipPush::tileTraceBelow (the tile choice): a tile of PIP_MASK_TILE_SIZE^2
 // pixels that the last frame found (nearly) all doubtful is traced whole - every pixel flagged,
-// none searched - where the host's cost model says that is cheaper (FrameContext::classify); the
+// none searched - where the host's cost model says that is cheaper (FrameContext::reportTileChoice); the
 // others count their covered and flagged pixels for the next frame's choice.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
