@@ -49,8 +49,8 @@ const Options<PipSettings>& pipOptions() {
     o.choice("--tile-choice", "pip/tile_choice", &PipSettings::tileChoice,
              "Area lights: trace every pixel of an 8x8 tile, without classifying or searching any, where the last "
              "frame found so many of them doubtful that the frame's cost model (the classification's time per tile, "
-             "the trace's per ray, both timed on this device) predicts it cheaper; each such tile is classified "
-             "again every 8th frame. off: the paper's per-pixel classification everywhere",
+             "the trace's per traced pixel, both timed on this device) predicts it cheaper; each such tile is "
+             "classified again every 8th frame. off: the paper's per-pixel classification everywhere",
              {{"on", true}, {"off", false}});
     o.choice("--ray-intervals", "pip/ray_intervals", &PipSettings::rayIntervals,
              "Bound srt's hard-shadow rays by the shadow map's blocker depths", {{"on", true}, {"off", false}});
