@@ -23,7 +23,7 @@ PN_BEGIN
 #define PIP_BINDING_WHY 14            // uint per pixel: PIP_WHY_* (area lights: PIP_MASK_* bits where flagged)
 #define PIP_BINDING_FACE_NORMAL 15    // G-buffer face normal (packed)
 #define PIP_BINDING_MASK_TILES 16     // uint per PIP_MASK_TILE_SIZE^2 tile of pixels: PIP_TILE_* (PipPush::tileTest)
-#define PIP_BINDING_TILE_DOUBT_LAST 17  // uint per tile: PIP_TILE_DOUBT of the last frame (PipPush::tileTraceBelow)
+#define PIP_BINDING_TILE_DOUBT_LAST 17  // uint per tile: the tile choice's counts of the last frame (PIP_TILE_COVERED)
 #define PIP_BINDING_TILE_DOUBT 18       // uint per tile: this frame's (zeroed first)
 
 // The penumbra mask's tile test (PipPush::tileTest): what it found for a tile's pixels.
