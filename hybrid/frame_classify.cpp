@@ -165,30 +165,28 @@ void FrameContext::reportTileChoice(const std::vector<std::pair<std::string, dou
     }
   }
   // The frame's last of each pass: its paper's path (run last where --srt-choice auto ran both). The
-  // tile test counts with the classification: tiles traced whole skip it too.
-  double tileTestMs = 0.0;
-  std::optional<double> classifyMs, traceMs;
+  // tile test counts with the classification: tiles traced whole skip it too. A CPU tracer's trace
+  // (Embree) is its wall time, which no timestamp sees.
+  double tileTestMs = 0.0, traceMs = lastTraceHostMs_;
+  std::optional<double> classifyMs, deviceTraceMs;
   for (const auto& [pass, ms] : passes) {
     if (pass == "mask_tiles") tileTestMs = ms;
     if (pass == "classify") classifyMs = ms;
-    if (pass == "trace") traceMs = ms;
+    if (pass == "trace") deviceTraceMs = ms;
   }
-  if (!traceMs) {  // a CPU tracer's trace (Embree), which no timestamp sees
-    for (const auto& [pass, ms] : stats.passMs) {
-      if (pass == "trace") traceMs = ms;
-    }
-  }
+  traceMs += deviceTraceMs.value_or(0.0);
   const std::uint64_t pixels = stats.pipPixels.value_or(0);
-  if (classifyMs && traceMs && classified > 0 && pixels > 0 && *traceMs > 0.0) {
-    const double perTile = (*classifyMs + tileTestMs) / double(classified), perPixel = *traceMs / double(pixels);
+  if (classifyMs && classified > 0 && pixels > 0 && traceMs > 0.0) {
+    const double perTile = (*classifyMs + tileTestMs) / double(classified), perPixel = traceMs / double(pixels);
     const double below = 1.0 + std::floor(perTile / perPixel);
     c.traceBelow = std::uint32_t(std::min(below, double(PIP_MASK_TILE_SIZE * PIP_MASK_TILE_SIZE + 1)));
     char note[320];
     std::snprintf(note, sizeof(note),
-                  "the tile choice traced %llu of %llu tiles whole (--tile-choice on): classifying took %.2f us per "
-                  "tile, the trace %.3f us per pixel, so a tile with fewer than %u unflagged pixels goes whole next",
-                  (unsigned long long)whole, (unsigned long long)(whole + classified), 1000.0 * perTile,
-                  1000.0 * perPixel, c.traceBelow);
+                  "the tile choice traced %llu of %llu tiles whole (--tile-choice on): classifying took %.3f ms for "
+                  "%llu tiles, the trace %.3f ms for %llu pixels, so a tile with fewer than %u unflagged pixels goes "
+                  "whole next",
+                  (unsigned long long)whole, (unsigned long long)(whole + classified), *classifyMs + tileTestMs,
+                  (unsigned long long)classified, traceMs, (unsigned long long)pixels, c.traceBelow);
     stats.notes.push_back(note);
   }
   std::swap(c.last, c.next);

@@ -250,6 +250,7 @@ void FrameContext::finishTrace(ShadowTracer& tracer, const TraceJob& job, FrameS
   }
   const TraceReport report = tracer.finish(job);
   if (report.hostMs > 0.0) stats.addPass("trace", report.hostMs);
+  lastTraceHostMs_ = report.hostMs;
   stats.tracer = tracer.name();
   stats.raysTraced = report.rays;
   stats.nodeVisits = report.nodeVisits;
@@ -367,6 +368,7 @@ void FrameContext::begin(const Camera& camera, const Light& light, const Method&
   timer_.reset();
   maskTilesTested_ = false;
   tileChoice_ = nullptr;
+  lastTraceHostMs_ = 0.0;
   gbufferRecorded_ = slot.order > 0;  // the frame's first light rendered it
   coveredRead_ = coveredRead_ && slot.order > 0;
 }

@@ -280,6 +280,7 @@ class FrameContext {
   };
   std::map<std::uint32_t, TileChoice> tileChoices_;
   TileChoice* tileChoice_ = nullptr;  // this light's, where its frame classified with it
+  double lastTraceHostMs_ = 0.0;      // the frame's last trace's CPU time (Embree's; finishTrace), for its cost model
   bool mapsPastBudget_ = false;       // its own would not fit settings().lightMapsMiB
   LightMaps& maps();
   LightMaps& chooseMaps();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -453,6 +454,45 @@ TEST(PenumbraMask, TileChoiceTracesWholeTheTilesFoundDoubtful) {
     EXPECT_GT(orange, 0u);
     EXPECT_EQ(wrong, 0u);
     std::filesystem::remove_all(dir);
+  }
+  expectValidationSilent();
+}
+
+// The tile choice's cost model prices what the frame itself took, on a GPU tracer and on Embree
+// (whose trace no GPU timestamp sees): its note's classification and trace times are the frame's
+// passes, and its threshold follows from them.
+TEST(PenumbraMask, TileChoicePricesTheFramesOwnPasses) {
+  for (const char* tracer : {"bvh", "embree"}) {
+    SCOPED_TRACE(tracer);
+    RenderSettings settings = maskSettings(128);
+    settings.tracer = tracer;
+    settings.pip.tileChoice = true;
+    settings.pip.tileTest = raster::TileTest::On;
+    SceneRun run("builtin:courtyard", settings);
+    run.light.size = 0.1f * run.scene.bounds().radius();
+    run.render("srt");
+    const Frame f = run.render("srt");
+    const auto note = std::find_if(f.stats.notes.begin(), f.stats.notes.end(),
+                                   [](const std::string& n) { return n.find("the tile choice traced") == 0; });
+    ASSERT_NE(note, f.stats.notes.end());
+    unsigned long long whole = 0, tiles = 0, classified = 0, pixels = 0;
+    double classifyMs = 0.0, traceMs = 0.0;
+    unsigned below = 0;
+    ASSERT_EQ(std::sscanf(note->c_str(),
+                          "the tile choice traced %llu of %llu tiles whole (--tile-choice on): classifying took %lf ms "
+                          "for %llu tiles, the trace %lf ms for %llu pixels, so a tile with fewer than %u",
+                          &whole, &tiles, &classifyMs, &classified, &traceMs, &pixels, &below),
+              7)
+        << *note;
+    std::map<std::string, double> passes(f.stats.passMs.begin(), f.stats.passMs.end());
+    EXPECT_NEAR(classifyMs, passes["classify"] + passes["mask_tiles"], 0.002);
+    EXPECT_NEAR(traceMs, passes["trace"], 0.002 + 1e-3 * passes["trace"]);
+    EXPECT_EQ(whole, f.stats.counts.at("tiles_traced_whole"));
+    EXPECT_EQ(classified, f.stats.counts.at("tiles_classified"));
+    EXPECT_EQ(pixels, f.stats.pipPixels.value_or(0));
+    // The times are rounded to the microsecond: the floor may land one either side.
+    const double perTile = classifyMs / double(classified), perPixel = traceMs / double(pixels);
+    EXPECT_NEAR(double(below), std::min(65.0, 1.0 + std::floor(perTile / perPixel)), 1.0);
   }
   expectValidationSilent();
 }
