@@ -27,6 +27,7 @@ cases=(
   "15#hybrid/cheaper_of.h#last_ = *ms_[1] <= *ms_[0];#last_ = *ms_[1] >= *ms_[0];#pass_tests#PenumbraMask.TileTestAutoTakesTheCheaperAndTimesTheOtherAgain"
   "16#shaders/denoise_spatial.comp#ivec2 lo = max(pix - ivec2(reach), ivec2(0)) / DENOISE_GROUP_SIZE;#ivec2 lo = pix / DENOISE_GROUP_SIZE;#pass_tests#Denoise.SkippingAgreeingPixelsChangesNothing"
   "17#shaders/pip_classify.comp#tileDoubt[tile] = tileDoubtLast[tile] | PIP_TILE_TRACED;#tileDoubt[tile] = PIP_TILE_TRACED;#pass_tests#PenumbraMask.TileChoiceTracesWholeTheTilesFoundDoubtful"
+  "18#hybrid/frame_classify.cpp#double tileTestMs = 0.0, traceMs = lastTraceHostMs_;#double tileTestMs = 0.0, traceMs = 0.0;#pass_tests#PenumbraMask.TileChoicePricesTheFramesOwnPasses"
 )
 
 wanted=("$@")
