@@ -64,7 +64,7 @@ class PipClassifyPass {
   void record(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
               const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,
               const PipBuffers& out, shared::PipPush push, bool explain) const;
-  // The penumbra mask's tile test (maskTile in the shader; one invocation per PIP_MASK_TILE_SIZE^2
+  // The penumbra mask's tile test (maskTile in shaders/pip_tiles.glsl; one invocation per PIP_MASK_TILE_SIZE^2
   // tile of pixels): out.maskTiles.
   void recordTileTest(const vk::raii::CommandBuffer& cmd, const GBufferPass& gbuffer, const ShadowMapPass& shadowMap,
                       const ThinTrianglePass* thin, const DepthPyramidPass& pyramid, const gpu::Buffer& frame,

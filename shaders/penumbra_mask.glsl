@@ -13,7 +13,7 @@
 // alpha * u + beta, with u = 1/z (ortho: z), itself affine in the map's raw depth: a window costs
 // a few multiply-adds.
 // Windows shrink as z grows: the cone from p to the light narrows.
-// A tile's cone (maskTile in pip_classify.comp) bounds the windows of several receivers: the bounds of their
+// A tile's cone (maskTile in pip_tiles.glsl) bounds the windows of several receivers: the bounds of their
 // alphas and betas per corner, and of their texels (one receiver: lo = hi).
 struct SplatCone {
   vec2 alphaLo[4], alphaHi[4];  // per corner: its point at depth parameter u lies at texel alpha * u + beta,

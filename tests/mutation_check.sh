@@ -22,11 +22,11 @@ cases=(
   "10#shaders/compact_scatter.comp#point.rayMax = rayMax[p];#point.rayMax = rayMax[p] * 0.5;#pass_tests#Compact/CompactSizes.MatchesCpuReference/91x91"
   "11#shaders/depth_pyramid.comp#return vec4(centre, g, below + kFitSlack);#return vec4(centre, g, kFitSlack);#pass_tests#PenumbraMask.SurfaceFitsBoundEveryTexelOfTheirTiles"
   "12#hybrid/traced_method.cpp#(classify ? c.classifyMs : c.traceAllMs) = timedTrace(r, tracer, classify, shade, stats);#c.classifyMs = timedTrace(r, tracer, true, shade, stats);#pass_tests#SoftSelective.ChoiceFramesAreThePapersOrFullRayTracings"
-  "13#shaders/pip_classify.comp#farthest = max(farthest, axisDepth(m.clip));#farthest = farthest < -1e38 ? axisDepth(m.clip) : min(farthest, axisDepth(m.clip));#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
-  "14#shaders/pip_classify.comp#if (lit && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#if (false && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
+  "13#shaders/pip_tiles.glsl#farthest = max(farthest, axisDepth(m.clip));#farthest = farthest < -1e38 ? axisDepth(m.clip) : min(farthest, axisDepth(m.clip));#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
+  "14#shaders/pip_tiles.glsl#if (lit && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#if (false && withinReach(cone, 0u, farthest, PYRAMID_SURFACE#pass_tests#PenumbraMask.TileTestLeavesEveryPixelsMaskAsItWas"
   "15#hybrid/cheaper_of.h#last_ = *ms_[1] <= *ms_[0];#last_ = *ms_[1] >= *ms_[0];#pass_tests#PenumbraMask.TileTestAutoTakesTheCheaperAndTimesTheOtherAgain"
   "16#shaders/denoise_spatial.comp#ivec2 lo = max(pix - ivec2(reach), ivec2(0)) / DENOISE_GROUP_SIZE;#ivec2 lo = pix / DENOISE_GROUP_SIZE;#pass_tests#Denoise.SkippingAgreeingPixelsChangesNothing"
-  "17#shaders/pip_classify.comp#tileDoubt[tile] = tileDoubtLast[tile] | PIP_TILE_TRACED;#tileDoubt[tile] = PIP_TILE_TRACED;#pass_tests#PenumbraMask.TileChoiceTracesWholeTheTilesFoundDoubtful"
+  "17#shaders/pip_tiles.glsl#tileDoubt[tile] = tileDoubtLast[tile] | PIP_TILE_TRACED;#tileDoubt[tile] = PIP_TILE_TRACED;#pass_tests#PenumbraMask.TileChoiceTracesWholeTheTilesFoundDoubtful"
   "18#hybrid/frame_classify.cpp#double tileTestMs = 0.0, traceMs = lastTraceHostMs_;#double tileTestMs = 0.0, traceMs = 0.0;#pass_tests#PenumbraMask.TileChoicePricesTheFramesOwnPasses"
 )
 
